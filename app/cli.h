@@ -1,0 +1,53 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace orthoface::app {
+
+// One flag of a command: "--name VALUE" when takes_value, else "--name".
+struct Flag {
+  std::string name;     // without the leading dashes
+  bool takes_value = true;
+  std::string help;     // one line for --help; a value placeholder may lead: "DIR  output folder"
+};
+
+struct Command {
+  std::string name;     // "simulate"
+  std::string summary;  // one line for `orthoface --help`
+  std::string usage;    // "orthoface simulate --subject N --out DIR [options]"
+  std::vector<Flag> flags;
+  int max_positional = 0;  // how many bare arguments it takes
+};
+
+// Parsed command line. Values are strings; the typed getters below check and convert them.
+struct Args {
+  std::map<std::string, std::string> values;  // flag -> value ("" for switches)
+  std::vector<std::string> positional;
+  bool help = false;
+  bool has(const std::string& flag) const { return values.count(flag) > 0; }
+  std::string get(const std::string& flag, const std::string& fallback = "") const;
+};
+
+// Parses argv[2..] (argv[1] is the command name). Throws std::invalid_argument naming the
+// unknown flag, the missing value or the extra argument.
+Args parse_args(const Command& command, int argc, char** argv);
+
+// Prints usage and flag help to stdout.
+void print_help(const Command& command);
+
+// Typed conversions; each throws std::invalid_argument naming the flag and the bad text.
+int to_int(const std::string& flag, const std::string& text, int min, int max);
+double to_double(const std::string& flag, const std::string& text, double min, double max);
+// "640x480" -> {640, 480}; each side in [1, max_side].
+std::pair<int, int> to_size(const std::string& flag, const std::string& text, int max_side);
+
+// Makes `dir` usable as an output folder (creates it and its parents). Throws
+// std::runtime_error if it exists as a file or cannot be created or written.
+void prepare_output_dir(const std::string& dir);
+
+// Throws std::runtime_error when `path` is missing or not a regular file; `what` names it.
+void require_file(const std::string& path, const std::string& what);
+
+}  // namespace orthoface::app

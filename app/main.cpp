@@ -1,0 +1,46 @@
+// orthoface: front + side photos -> textured 3D face model -> views from any angle.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "app/commands.h"
+
+namespace {
+
+struct Entry {
+  const char* name;
+  int (*run)(int, char**);
+  const char* summary;
+};
+
+constexpr Entry kCommands[] = {
+    {"version", orthoface::app::run_version, "print the version and the libraries in use"},
+};
+
+void print_usage() {
+  std::cout << "usage: orthoface <command> [options]   (orthoface <command> --help for details)\n\n"
+               "commands:\n";
+  for (const Entry& e : kCommands) std::printf("  %-12s %s\n", e.name, e.summary);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h")) {
+    print_usage();
+    return argc < 2 ? 1 : 0;
+  }
+  for (const Entry& e : kCommands) {
+    if (std::strcmp(argv[1], e.name) != 0) continue;
+    try {
+      return e.run(argc, argv);
+    } catch (const std::exception& ex) {
+      std::cerr << "error: " << ex.what() << "\n";
+      return 1;
+    }
+  }
+  std::cerr << "error: unknown command '" << argv[1] << "' (orthoface --help lists them)\n";
+  return 2;
+}

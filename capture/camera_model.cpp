@@ -1,0 +1,206 @@
+#include "capture/camera_model.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include <opencv2/core/eigen.hpp>
+
+namespace orthoface::capture {
+namespace {
+
+Eigen::Vector2d distort(const std::vector<double>& d, const Eigen::Vector2d& xy) {
+  if (d.empty()) return xy;
+  const double k1 = d.size() > 0 ? d[0] : 0, k2 = d.size() > 1 ? d[1] : 0;
+  const double p1 = d.size() > 2 ? d[2] : 0, p2 = d.size() > 3 ? d[3] : 0;
+  const double k3 = d.size() > 4 ? d[4] : 0;
+  const double x = xy.x(), y = xy.y(), r2 = x * x + y * y;
+  const double radial = 1 + r2 * (k1 + r2 * (k2 + r2 * k3));
+  return {x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+          y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y};
+}
+
+const char* projection_name(Projection p) {
+  return p == Projection::Orthographic ? "orthographic" : "perspective";
+}
+
+void write_camera(cv::FileStorage& fs, const std::string& key, const CameraModel& c) {
+  fs << key << "{";
+  fs << "projection" << projection_name(c.projection);
+  fs << "width" << c.width << "height" << c.height;
+  cv::Mat k = (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
+  fs << "camera_matrix" << k;
+  fs << "distortion" << cv::Mat(c.distortion.empty() ? std::vector<double>(5, 0.0) : c.distortion,
+                                true).reshape(1, 1);
+  cv::Mat pose;
+  cv::eigen2cv(Eigen::Matrix4d(c.cam_from_head.matrix()), pose);
+  fs << "cam_from_head" << pose;
+  fs << "}";
+}
+
+CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
+                        const std::string& path) {
+  const cv::FileNode n = fs[key];
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error("rig file " + path + ": " + key + ": " + what);
+  };
+  if (n.empty() || !n.isMap()) fail("missing camera section");
+  CameraModel c;
+  std::string proj;
+  n["projection"] >> proj;
+  if (proj == "orthographic") c.projection = Projection::Orthographic;
+  else if (proj == "perspective") c.projection = Projection::Perspective;
+  else fail("projection must be orthographic or perspective, got '" + proj + "'");
+  if (n["width"].empty() || n["height"].empty()) fail("missing width/height");
+  n["width"] >> c.width;
+  n["height"] >> c.height;
+  if (c.width <= 0 || c.height <= 0 || c.width > 20000 || c.height > 20000)
+    fail("image size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+         " out of range");
+  cv::Mat k, d, pose;
+  n["camera_matrix"] >> k;
+  if (k.rows != 3 || k.cols != 3) fail("camera_matrix must be 3x3");
+  k.convertTo(k, CV_64F);
+  c.fx = k.at<double>(0, 0);
+  c.fy = k.at<double>(1, 1);
+  c.cx = k.at<double>(0, 2);
+  c.cy = k.at<double>(1, 2);
+  if (!(c.fx > 0) || !(c.fy > 0) || !std::isfinite(c.cx) || !std::isfinite(c.cy))
+    fail("camera_matrix needs positive finite fx, fy and finite cx, cy");
+  n["distortion"] >> d;
+  if (!d.empty()) {
+    d.convertTo(d, CV_64F);
+    d = d.reshape(1, 1);
+    if (d.cols != 4 && d.cols != 5) fail("distortion must have 4 or 5 coefficients");
+    c.distortion.assign(d.begin<double>(), d.end<double>());
+    bool all_zero = true;
+    for (double v : c.distortion) {
+      if (!std::isfinite(v)) fail("distortion has a non-finite coefficient");
+      all_zero = all_zero && v == 0.0;
+    }
+    if (all_zero) c.distortion.clear();
+  }
+  n["cam_from_head"] >> pose;
+  if (pose.rows != 4 || pose.cols != 4) fail("cam_from_head must be a 4x4 matrix");
+  pose.convertTo(pose, CV_64F);
+  Eigen::Matrix4d m;
+  cv::cv2eigen(pose, m);
+  if (!m.allFinite()) fail("cam_from_head has non-finite entries");
+  const Eigen::Matrix3d r = m.topLeftCorner<3, 3>();
+  if ((r * r.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-4 || r.determinant() < 0)
+    fail("cam_from_head rotation is not a proper rotation");
+  c.cam_from_head.matrix() = m;
+  return c;
+}
+
+}  // namespace
+
+Eigen::Vector2d project(const CameraModel& camera, const Eigen::Vector3d& p_head) {
+  const Eigen::Vector3d p = camera.cam_from_head * p_head;
+  if (camera.projection == Projection::Orthographic)
+    return {camera.cx + camera.fx * p.x(), camera.cy + camera.fy * p.y()};
+  const Eigen::Vector2d xy = distort(camera.distortion, p.head<2>() / p.z());
+  return {camera.cx + camera.fx * xy.x(), camera.cy + camera.fy * xy.y()};
+}
+
+double depth(const CameraModel& camera, const Eigen::Vector3d& p_head) {
+  return (camera.cam_from_head * p_head).z();
+}
+
+Eigen::Vector3d view_direction(const CameraModel& camera) {
+  return camera.cam_from_head.linear().transpose() * Eigen::Vector3d::UnitZ();
+}
+
+CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitch_rad,
+                      double distance_mm) {
+  if (intrinsics.projection == Projection::Perspective && !(distance_mm > 0))
+    throw std::invalid_argument("camera_at: perspective camera needs distance_mm > 0, got " +
+                                std::to_string(distance_mm));
+  if (!std::isfinite(yaw_rad) || !std::isfinite(pitch_rad))
+    throw std::invalid_argument("camera_at: yaw and pitch must be finite");
+  CameraModel c = intrinsics;
+  // Camera centre direction in the head frame; yaw 0 = +z (front), yaw 90 deg = +x (side).
+  const Eigen::Vector3d dir(std::sin(yaw_rad) * std::cos(pitch_rad), std::sin(pitch_rad),
+                            std::cos(yaw_rad) * std::cos(pitch_rad));
+  const Eigen::Vector3d forward = -dir;  // camera +z in head frame
+  // Image "down" is head -y projected onto the image plane; "right" completes the frame. At
+  // pitch = +-90 deg this uses the yaw direction so the frame stays defined.
+  Eigen::Vector3d right(std::cos(yaw_rad), 0.0, -std::sin(yaw_rad));
+  const Eigen::Vector3d down = forward.cross(right).normalized();
+  right = down.cross(forward).normalized();
+  Eigen::Matrix3d head_from_cam_r;
+  head_from_cam_r.col(0) = right;
+  head_from_cam_r.col(1) = down;
+  head_from_cam_r.col(2) = forward;
+  const double d = distance_mm > 0 ? distance_mm : 1000.0;  // orthographic: any distance works
+  Eigen::Isometry3d head_from_cam = Eigen::Isometry3d::Identity();
+  head_from_cam.linear() = head_from_cam_r;
+  head_from_cam.translation() = dir * d;
+  c.cam_from_head = head_from_cam.inverse();
+  return c;
+}
+
+RigCalibration ideal_rig(int width, int height, double px_per_mm) {
+  if (width <= 0 || height <= 0)
+    throw std::invalid_argument("ideal_rig: image size must be positive, got " +
+                                std::to_string(width) + "x" + std::to_string(height));
+  if (!(px_per_mm > 0))
+    throw std::invalid_argument("ideal_rig: px_per_mm must be positive");
+  CameraModel base;
+  base.projection = Projection::Orthographic;
+  base.width = width;
+  base.height = height;
+  base.fx = base.fy = px_per_mm;
+  base.cx = width / 2.0;
+  base.cy = height / 2.0;
+  RigCalibration rig;
+  rig.front = camera_at(base, 0.0, 0.0, 1000.0);
+  rig.side = camera_at(base, M_PI / 2, 0.0, 1000.0);
+  rig.source = "ideal";
+  return rig;
+}
+
+void write_rig(const RigCalibration& rig, const std::string& path) {
+  const std::string tmp = path + ".tmp.yaml";
+  {
+    cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
+    if (!fs.isOpened()) throw std::runtime_error("cannot write rig file " + path);
+    fs << "orthoface_rig" << 1;
+    fs << "source" << rig.source;
+    write_camera(fs, "front", rig.front);
+    write_camera(fs, "side", rig.side);
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("cannot write rig file " + path + ": rename failed");
+  }
+}
+
+RigCalibration read_rig(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw std::runtime_error("rig file " + path + ": no such file");
+  cv::FileStorage fs;
+  try {
+    fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("rig file " + path + ": not valid YAML (" + e.err + ")");
+  }
+  if (!fs.isOpened()) throw std::runtime_error("rig file " + path + ": cannot be parsed as YAML");
+  if (fs["orthoface_rig"].empty())
+    throw std::runtime_error("rig file " + path + ": missing 'orthoface_rig' version key");
+  RigCalibration rig;
+  try {
+    rig.front = read_camera(fs, "front", path);
+    rig.side = read_camera(fs, "side", path);
+    fs["source"] >> rig.source;
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("rig file " + path + ": malformed field (" + e.err + ")");
+  }
+  if (rig.source.empty()) rig.source = path;
+  return rig;
+}
+
+}  // namespace orthoface::capture

@@ -1,0 +1,68 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <opencv2/core.hpp>
+
+namespace orthoface::capture {
+
+// How a camera maps its own 3D frame to pixels.
+//   Orthographic: u = cx + fx * x_cam, v = cy + fy * y_cam   (fx, fy in pixels per mm)
+//   Perspective:  OpenCV pinhole, u = cx + fx * x_cam / z_cam (+ distortion), fx, fy in pixels.
+enum class Projection { Orthographic, Perspective };
+
+// One camera placed in the head frame.
+// Camera frame follows OpenCV: +x right in the image, +y down, +z forward (viewing direction).
+// Head frame (DESIGN.md): origin between the ears, +x toward the side camera (the subject's
+// left), +y up, +z toward the front camera (out of the face). Units: mm. Pixel origin: top-left
+// corner of the top-left pixel is (0,0), so the centre of pixel (c, r) is (c + 0.5, r + 0.5).
+struct CameraModel {
+  Projection projection = Projection::Orthographic;
+  int width = 640;   // image size, pixels
+  int height = 480;
+  double fx = 1.0;   // pixels per mm (orthographic) or focal length in pixels (perspective)
+  double fy = 1.0;
+  double cx = 320.0;  // principal point, pixels
+  double cy = 240.0;
+  std::vector<double> distortion;  // OpenCV k1 k2 p1 p2 [k3]; empty = none (perspective only)
+  Eigen::Isometry3d cam_from_head = Eigen::Isometry3d::Identity();
+};
+
+// The two cameras of a station. In the ideal rig of seed 004 both are orthographic with equal
+// scale and principal row, so a head point's row is the same in both images (seed 004 eq. 1).
+struct RigCalibration {
+  CameraModel front;  // looks along -z of the head frame
+  CameraModel side;   // looks along -x of the head frame; the face (+z) appears on the image left
+  std::string source;  // where it came from ("ideal default", file path, "sim", ...)
+};
+
+// Pixel position of head-frame point p_head (mm) seen by `camera`, distortion included.
+Eigen::Vector2d project(const CameraModel& camera, const Eigen::Vector3d& p_head);
+
+// Depth of p_head along the camera's viewing axis (z_cam, mm).
+double depth(const CameraModel& camera, const Eigen::Vector3d& p_head);
+
+// Unit viewing direction of `camera` in the head frame (where it looks).
+Eigen::Vector3d view_direction(const CameraModel& camera);
+
+// Camera that looks at the head-frame origin from yaw / pitch (radians, DESIGN.md: yaw about +y
+// from the front camera toward the side camera, pitch > 0 looks from above), standing
+// `distance_mm` away, image up = head +y as far as the pitch allows. Intrinsics are copied from
+// `intrinsics` (projection, size, fx, fy, cx, cy, distortion).
+// Throws std::invalid_argument for distance_mm <= 0 with a perspective model.
+CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitch_rad,
+                      double distance_mm);
+
+// The ideal seed 004 rig: two orthographic cameras of the given image size and scale (pixels per
+// mm), head origin at the image centre. Throws std::invalid_argument on size <= 0 or scale <= 0.
+RigCalibration ideal_rig(int width, int height, double px_per_mm);
+
+// OpenCV FileStorage YAML (the format `reconstruct --rig` reads and `simulate` / `calibrate`
+// write). write_rig writes to path.tmp and renames. read_rig throws std::runtime_error naming the
+// file and the missing or malformed field.
+void write_rig(const RigCalibration& rig, const std::string& path);
+RigCalibration read_rig(const std::string& path);
+
+}  // namespace orthoface::capture

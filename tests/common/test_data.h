@@ -1,0 +1,23 @@
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace orthoface::testing {
+
+// Path of a file under ../shared/data, or "" when the data folder is absent (tests then call
+// GTEST_SKIP so the suite passes without it).
+inline std::string shared_data(const std::string& relative) {
+  const std::filesystem::path p = std::filesystem::path(ORTHOFACE_DATA_DIR) / relative;
+  return std::filesystem::exists(p) ? p.string() : std::string();
+}
+
+// A fresh empty folder under the test temp dir, named after the test.
+inline std::filesystem::path temp_dir(const std::string& name) {
+  const auto p = std::filesystem::temp_directory_path() / ("orthoface_test_" + name);
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p;
+}
+
+}  // namespace orthoface::testing
