@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <limits>
 #include <stdexcept>
 
 #include <opencv2/core/eigen.hpp>
@@ -39,10 +41,22 @@ void write_camera(cv::FileStorage& fs, const std::string& key, const CameraModel
   fs << "}";
 }
 
+// Reads matrix field `name` of node `n`; OpenCV's own error text does not name the field.
+cv::Mat read_matrix(const cv::FileNode& n, const std::string& name,
+                    const std::function<void(const std::string&)>& fail) {
+  cv::Mat m;
+  try {
+    n[name] >> m;
+  } catch (const cv::Exception&) {
+    fail(name + " is not a well-formed matrix");
+  }
+  return m;
+}
+
 CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
                         const std::string& path) {
   const cv::FileNode n = fs[key];
-  auto fail = [&](const std::string& what) {
+  const std::function<void(const std::string&)> fail = [&](const std::string& what) {
     throw std::runtime_error("rig file " + path + ": " + key + ": " + what);
   };
   if (n.empty() || !n.isMap()) fail("missing camera section");
@@ -58,8 +72,7 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
   if (c.width <= 0 || c.height <= 0 || c.width > 20000 || c.height > 20000)
     fail("image size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
          " out of range");
-  cv::Mat k, d, pose;
-  n["camera_matrix"] >> k;
+  cv::Mat k = read_matrix(n, "camera_matrix", fail);
   if (k.rows != 3 || k.cols != 3) fail("camera_matrix must be 3x3");
   k.convertTo(k, CV_64F);
   c.fx = k.at<double>(0, 0);
@@ -68,7 +81,7 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
   c.cy = k.at<double>(1, 2);
   if (!(c.fx > 0) || !(c.fy > 0) || !std::isfinite(c.cx) || !std::isfinite(c.cy))
     fail("camera_matrix needs positive finite fx, fy and finite cx, cy");
-  n["distortion"] >> d;
+  cv::Mat d = read_matrix(n, "distortion", fail);
   if (!d.empty()) {
     d.convertTo(d, CV_64F);
     d = d.reshape(1, 1);
@@ -81,7 +94,7 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
     }
     if (all_zero) c.distortion.clear();
   }
-  n["cam_from_head"] >> pose;
+  cv::Mat pose = read_matrix(n, "cam_from_head", fail);
   if (pose.rows != 4 || pose.cols != 4) fail("cam_from_head must be a 4x4 matrix");
   pose.convertTo(pose, CV_64F);
   Eigen::Matrix4d m;
@@ -100,6 +113,8 @@ Eigen::Vector2d project(const CameraModel& camera, const Eigen::Vector3d& p_head
   const Eigen::Vector3d p = camera.cam_from_head * p_head;
   if (camera.projection == Projection::Orthographic)
     return {camera.cx + camera.fx * p.x(), camera.cy + camera.fy * p.y()};
+  // A point at or behind the camera centre has no image: NaN, so callers can test it.
+  if (!(p.z() > 0)) return Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   const Eigen::Vector2d xy = distort(camera.distortion, p.head<2>() / p.z());
   return {camera.cx + camera.fx * xy.x(), camera.cy + camera.fy * xy.y()};
 }
@@ -163,6 +178,11 @@ RigCalibration ideal_rig(int width, int height, double px_per_mm) {
 
 void write_rig(const RigCalibration& rig, const std::string& path) {
   const std::string tmp = path + ".tmp.yaml";
+  // Checked here so OpenCV does not log its own error line before we throw.
+  const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+  if (!std::filesystem::is_directory(parent))
+    throw std::runtime_error("cannot write rig file " + path + ": folder " + parent.string() +
+                             " does not exist");
   {
     cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
     if (!fs.isOpened()) throw std::runtime_error("cannot write rig file " + path);

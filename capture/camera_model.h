@@ -39,6 +39,7 @@ struct RigCalibration {
 };
 
 // Pixel position of head-frame point p_head (mm) seen by `camera`, distortion included.
+// A perspective camera returns NaN for a point at or behind its centre (z_cam <= 0).
 Eigen::Vector2d project(const CameraModel& camera, const Eigen::Vector3d& p_head);
 
 // Depth of p_head along the camera's viewing axis (z_cam, mm).

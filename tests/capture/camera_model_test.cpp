@@ -1,0 +1,250 @@
+#include "capture/camera_model.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "tests/common/test_data.h"
+
+namespace orthoface::capture {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string bad_input(const std::string& name) {
+  return std::string(ORTHOFACE_SOURCE_DIR) + "/tests/data/bad_inputs/" + name;
+}
+
+CameraModel perspective_intrinsics() {
+  CameraModel c;
+  c.projection = Projection::Perspective;
+  c.width = 640;
+  c.height = 480;
+  c.fx = c.fy = 1600.0;
+  c.cx = 320.0;
+  c.cy = 240.0;
+  return c;
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream f(path);
+  f << text;
+}
+
+// A valid rig file's text with one line replaced, for the malformed-field tests.
+std::string valid_rig_text(const fs::path& dir) {
+  const fs::path p = dir / "valid.yaml";
+  write_rig(ideal_rig(640, 480, 2.0), p.string());
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+TEST(CameraAt, FrontCameraSeesPlusXOnImageRightAndUpAsImageUp) {
+  const RigCalibration rig = ideal_rig(640, 480, 2.0);
+  const Eigen::Vector2d o = project(rig.front, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(o.x(), 320.0, 1e-9);
+  EXPECT_NEAR(o.y(), 240.0, 1e-9);
+  const Eigen::Vector2d px = project(rig.front, Eigen::Vector3d(10, 0, 0));
+  EXPECT_NEAR(px.x(), 340.0, 1e-9);  // +x (subject's left) on the image right
+  const Eigen::Vector2d py = project(rig.front, Eigen::Vector3d(0, 10, 0));
+  EXPECT_NEAR(py.y(), 220.0, 1e-9);  // +y up = smaller row
+  // Depth along the view: the face (+z) is nearer the front camera.
+  EXPECT_LT(depth(rig.front, Eigen::Vector3d(0, 0, 50)), depth(rig.front, Eigen::Vector3d::Zero()));
+  EXPECT_TRUE(view_direction(rig.front).isApprox(Eigen::Vector3d(0, 0, -1), 1e-12));
+}
+
+TEST(CameraAt, SideCameraSeesTheFaceOnImageLeft) {
+  const RigCalibration rig = ideal_rig(640, 480, 2.0);
+  const Eigen::Vector2d nose = project(rig.side, Eigen::Vector3d(0, 0, 100));
+  EXPECT_NEAR(nose.x(), 120.0, 1e-9);  // +z toward the image left
+  EXPECT_NEAR(nose.y(), 240.0, 1e-9);
+  EXPECT_TRUE(view_direction(rig.side).isApprox(Eigen::Vector3d(-1, 0, 0), 1e-12));
+  // The subject's left ear (+x) is nearer the side camera than the right ear.
+  EXPECT_LT(depth(rig.side, Eigen::Vector3d(70, 0, 0)), depth(rig.side, Eigen::Vector3d(-70, 0, 0)));
+}
+
+// seed 004 eq. 1: in the ideal rig the front column gives x, the side column gives z, and a
+// point's row is the same in both images.
+TEST(IdealRig, EveryPointHasTheSameRowInBothViewsAndEq1RecoversIt) {
+  const double s = 1.7;
+  const RigCalibration rig = ideal_rig(800, 600, s);
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-150.0, 150.0);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    const Eigen::Vector2d f = project(rig.front, p), q = project(rig.side, p);
+    ASSERT_NEAR(f.y(), q.y(), 1e-9);
+    const Eigen::Vector3d back((f.x() - 400.0) / s, (300.0 - f.y()) / s, (400.0 - q.x()) / s);
+    ASSERT_LT((back - p).norm(), 1e-9);
+  }
+}
+
+TEST(CameraAt, YawAndPitchMoveTheCameraAsDocumented) {
+  const CameraModel base = perspective_intrinsics();
+  const CameraModel c45 = camera_at(base, M_PI / 4, 0.0, 1000.0);
+  const Eigen::Vector3d centre = c45.cam_from_head.inverse().translation();
+  EXPECT_TRUE(centre.isApprox(Eigen::Vector3d(std::sqrt(0.5), 0, std::sqrt(0.5)) * 1000.0, 1e-9));
+  const Eigen::Vector2d o = project(c45, Eigen::Vector3d::Zero());
+  EXPECT_NEAR(o.x(), 320.0, 1e-9);
+  EXPECT_NEAR(o.y(), 240.0, 1e-9);
+  // Pitch > 0 looks from above: the camera stands at +y and the top of the head is nearer.
+  const CameraModel above = camera_at(base, 0.0, 0.3, 1000.0);
+  EXPECT_GT(above.cam_from_head.inverse().translation().y(), 0.0);
+  EXPECT_LT(depth(above, Eigen::Vector3d(0, 100, 0)), depth(above, Eigen::Vector3d(0, -100, 0)));
+  // Head +y still maps to image up.
+  EXPECT_LT(project(above, Eigen::Vector3d(0, 50, 0)).y(), 240.0);
+}
+
+TEST(CameraAt, StraightDownStaysAProperRotation) {
+  const CameraModel c = camera_at(perspective_intrinsics(), 0.2, M_PI / 2, 800.0);
+  const Eigen::Matrix3d r = c.cam_from_head.linear();
+  EXPECT_NEAR((r * r.transpose() - Eigen::Matrix3d::Identity()).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(r.determinant(), 1.0, 1e-9);
+  EXPECT_TRUE(view_direction(c).isApprox(Eigen::Vector3d(0, -1, 0), 1e-9));
+}
+
+TEST(CameraAt, PerspectiveMatchesPinholeAndDistortion) {
+  CameraModel c = camera_at(perspective_intrinsics(), 0.0, 0.0, 1000.0);
+  // A point 50 mm right of the axis, 100 mm in front of the origin: z_cam = 900.
+  const Eigen::Vector2d p = project(c, Eigen::Vector3d(50, 0, 100));
+  EXPECT_NEAR(p.x(), 320.0 + 1600.0 * 50.0 / 900.0, 1e-9);
+  c.distortion = {0.1, 0.0, 0.0, 0.0, 0.0};
+  const double x = 50.0 / 900.0;
+  EXPECT_NEAR(project(c, Eigen::Vector3d(50, 0, 100)).x(), 320.0 + 1600.0 * x * (1 + 0.1 * x * x),
+              1e-9);
+}
+
+TEST(CameraAt, PointBehindPerspectiveCameraHasNoPixel) {
+  const CameraModel c = camera_at(perspective_intrinsics(), 0.0, 0.0, 500.0);
+  EXPECT_TRUE(project(c, Eigen::Vector3d(0, 0, 600)).hasNaN());
+  EXPECT_TRUE(project(c, Eigen::Vector3d(0, 0, 500)).hasNaN());  // at the centre
+  EXPECT_FALSE(project(c, Eigen::Vector3d(0, 0, 499)).hasNaN());
+}
+
+TEST(CameraAt, RejectsBadDistanceAndNonFiniteAngles) {
+  EXPECT_THROW(camera_at(perspective_intrinsics(), 0, 0, 0.0), std::invalid_argument);
+  EXPECT_THROW(camera_at(perspective_intrinsics(), 0, 0, -5.0), std::invalid_argument);
+  EXPECT_THROW(camera_at(perspective_intrinsics(), NAN, 0, 100.0), std::invalid_argument);
+  EXPECT_THROW(camera_at(perspective_intrinsics(), 0, INFINITY, 100.0), std::invalid_argument);
+  // Orthographic cameras ignore the distance: zero is a valid degenerate value.
+  CameraModel ortho;
+  EXPECT_NO_THROW(camera_at(ortho, 0, 0, 0.0));
+}
+
+TEST(IdealRig, RejectsBadSizeAndScale) {
+  EXPECT_THROW(ideal_rig(0, 480, 1.0), std::invalid_argument);
+  EXPECT_THROW(ideal_rig(640, -1, 1.0), std::invalid_argument);
+  EXPECT_THROW(ideal_rig(640, 480, 0.0), std::invalid_argument);
+  EXPECT_THROW(ideal_rig(640, 480, NAN), std::invalid_argument);
+  const RigCalibration tiny = ideal_rig(1, 1, 1.0);  // degenerate but valid
+  EXPECT_NEAR(project(tiny.front, Eigen::Vector3d::Zero()).x(), 0.5, 1e-12);
+}
+
+void expect_same_camera(const CameraModel& a, const CameraModel& b) {
+  EXPECT_EQ(a.projection, b.projection);
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  EXPECT_DOUBLE_EQ(a.fx, b.fx);
+  EXPECT_DOUBLE_EQ(a.fy, b.fy);
+  EXPECT_DOUBLE_EQ(a.cx, b.cx);
+  EXPECT_DOUBLE_EQ(a.cy, b.cy);
+  EXPECT_EQ(a.distortion, b.distortion);
+  EXPECT_TRUE(a.cam_from_head.matrix().isApprox(b.cam_from_head.matrix(), 1e-12));
+}
+
+TEST(RigFile, RoundTripsIdealAndPerspectiveRigs) {
+  const fs::path dir = testing::temp_dir("rig_round_trip");
+  const RigCalibration ideal = ideal_rig(640, 480, 1.6);
+  write_rig(ideal, (dir / "ideal.yaml").string());
+  const RigCalibration a = read_rig((dir / "ideal.yaml").string());
+  expect_same_camera(a.front, ideal.front);
+  expect_same_camera(a.side, ideal.side);
+  EXPECT_EQ(a.source, "ideal");
+
+  RigCalibration persp;
+  persp.front = camera_at(perspective_intrinsics(), 0.01, -0.02, 1000.0);
+  persp.side = camera_at(perspective_intrinsics(), M_PI / 2 + 0.03, 0.0, 950.0);
+  persp.side.distortion = {-0.1, 0.02, 0.001, -0.002, 0.0005};
+  persp.source = "sim";
+  write_rig(persp, (dir / "persp.yaml").string());
+  EXPECT_FALSE(fs::exists(dir / "persp.yaml.tmp.yaml"));
+  const RigCalibration b = read_rig((dir / "persp.yaml").string());
+  expect_same_camera(b.front, persp.front);
+  expect_same_camera(b.side, persp.side);
+  const Eigen::Vector3d p(12, -30, 80);
+  EXPECT_LT((project(b.side, p) - project(persp.side, p)).norm(), 1e-9);
+}
+
+TEST(RigFile, WriteToMissingFolderThrows) {
+  const fs::path dir = testing::temp_dir("rig_write_missing");
+  EXPECT_THROW(write_rig(ideal_rig(64, 48, 1.0), (dir / "no" / "such" / "rig.yaml").string()),
+               std::runtime_error);
+}
+
+TEST(RigFile, SharedBadInputsThrowNamingTheFile) {
+  for (const char* name : {"rig_missing_fields.yaml", "rig_nan_focal.yaml", "rig_not_yaml.yaml"}) {
+    const std::string path = bad_input(name);
+    ASSERT_TRUE(fs::exists(path)) << path;
+    try {
+      read_rig(path);
+      ADD_FAILURE() << name << " was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_THROW(read_rig("/nonexistent/rig.yaml"), std::runtime_error);
+  EXPECT_THROW(read_rig(testing::temp_dir("rig_dir").string()), std::runtime_error);
+}
+
+// Each case: a valid file with one field broken; the error must name the field's problem.
+TEST(RigFile, MalformedFieldsThrowNamingTheField) {
+  const fs::path dir = testing::temp_dir("rig_malformed");
+  const std::string good = valid_rig_text(dir);
+  struct Case {
+    std::string from, to, expect;
+  };
+  const Case cases[] = {
+      {"projection: orthographic", "projection: fisheye", "projection"},
+      {"width: 640", "width: 0", "image size"},
+      {"width: 640", "width: abc", "image size"},
+      {"height: 480", "height: 100000", "image size"},
+      {"data: [ 2.", "data: [ .nan", "camera_matrix"},
+      {"data: [ 2.", "data: [ -2.", "camera_matrix"},
+      {"front:", "frontal:", "missing camera section"},
+      {"rows: 3", "rows: 1", "camera_matrix"},
+      {"cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ 1.",
+       "cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ 2.",
+       "rotation"},
+      {"orthoface_rig: 1", "orthoface_rigs: 1", "orthoface_rig"},
+  };
+  int i = 0;
+  for (const Case& c : cases) {
+    const auto at = good.find(c.from);
+    ASSERT_NE(at, std::string::npos) << c.from << "\n" << good;
+    std::string text = good;
+    text.replace(at, c.from.size(), c.to);
+    const fs::path p = dir / ("bad" + std::to_string(i++) + ".yaml");
+    write_text(p, text);
+    try {
+      read_rig(p.string());
+      ADD_FAILURE() << "accepted: " << c.to;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.expect), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(p.string()), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(RigFile, EmptyFileThrows) {
+  const fs::path dir = testing::temp_dir("rig_empty");
+  write_text(dir / "empty.yaml", "");
+  EXPECT_THROW(read_rig((dir / "empty.yaml").string()), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace orthoface::capture
