@@ -23,7 +23,11 @@ struct RenderOptions {
   Light light;
   bool cull_back_faces = true;  // faces whose outward normal points away from the camera
   bool wireframe = false;       // draw triangle edges over the surface (figures)
+  cv::Scalar wireframe_color{40, 40, 40};  // BGR 0..255
 };
+
+// Largest image width or height a render accepts, pixels.
+inline constexpr int kMaxRenderSize = 8192;
 
 // One rendered view. Pixel (c, r) covers image area [c, c+1) x [r, r+1), origin top-left.
 struct RenderResult {
@@ -45,8 +49,13 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
+  // The mesh is uploaded once and kept (up to 8 meshes, least recently used dropped) keyed by
+  // its buffers' addresses, sizes and a hash of the geometry; a texture edited in place under
+  // the same buffer may go unnoticed: call clear_cache() after such an edit.
   RenderResult render(const model::TriMesh& mesh, const capture::CameraModel& camera,
                       const RenderOptions& options = {});
+  void clear_cache();
+  int cached_meshes() const;  // meshes currently uploaded
 
  private:
   struct Impl;

@@ -1,0 +1,201 @@
+#include "render/gl_util.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::render::gl {
+
+Context::Context() : buffer_(4, 0) {
+  const int core[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
+                      OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
+                      OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  ctx_ = OSMesaCreateContextAttribs(core, nullptr);
+  if (!ctx_)
+    throw std::runtime_error(
+        "cannot create an OpenGL 3.3 core context with libOSMesa (package libosmesa6, Mesa "
+        ">= 20 with llvmpipe); is libOSMesa.so installed and working?");
+  if (!OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
+    OSMesaDestroyContext(ctx_);
+    ctx_ = nullptr;
+    throw std::runtime_error("libOSMesa (libosmesa6): OSMesaMakeCurrent failed");
+  }
+}
+
+Context::~Context() {
+  if (ctx_) OSMesaDestroyContext(ctx_);
+}
+
+void Context::make_current() {
+  if (OSMesaGetCurrentContext() == ctx_) return;
+  if (!OSMesaMakeCurrent(ctx_, buffer_.data(), GL_UNSIGNED_BYTE, 1, 1))
+    throw std::runtime_error("libOSMesa (libosmesa6): OSMesaMakeCurrent failed");
+}
+
+namespace {
+
+GLuint shader(GLenum type, const char* src, const std::string& name) {
+  const GLuint s = glCreateShader(type);
+  glShaderSource(s, 1, &src, nullptr);
+  glCompileShader(s);
+  GLint ok = 0;
+  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    glGetShaderInfoLog(s, sizeof(log) - 1, nullptr, log);
+    glDeleteShader(s);
+    throw std::runtime_error("render: shader '" + name + "' does not compile: " + log);
+  }
+  return s;
+}
+
+}  // namespace
+
+GLuint program(const char* vertex_src, const char* fragment_src, const std::string& name) {
+  const GLuint vs = shader(GL_VERTEX_SHADER, vertex_src, name + ".vert");
+  const GLuint fs = shader(GL_FRAGMENT_SHADER, fragment_src, name + ".frag");
+  const GLuint p = glCreateProgram();
+  glAttachShader(p, vs);
+  glAttachShader(p, fs);
+  glLinkProgram(p);
+  glDeleteShader(vs);
+  glDeleteShader(fs);
+  GLint ok = 0;
+  glGetProgramiv(p, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    char log[2048] = {0};
+    glGetProgramInfoLog(p, sizeof(log) - 1, nullptr, log);
+    glDeleteProgram(p);
+    throw std::runtime_error("render: program '" + name + "' does not link: " + log);
+  }
+  return p;
+}
+
+void Framebuffer::ensure(int w, int h, int float_targets) {
+  if (fbo && w == width && h == height && colors.size() == size_t(1 + float_targets)) return;
+  release();
+  width = w;
+  height = h;
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  colors.assign(1 + float_targets, 0);
+  glGenRenderbuffers(GLsizei(colors.size()), colors.data());
+  std::vector<GLenum> draw;
+  for (size_t i = 0; i < colors.size(); ++i) {
+    glBindRenderbuffer(GL_RENDERBUFFER, colors[i]);
+    glRenderbufferStorage(GL_RENDERBUFFER, i == 0 ? GL_RGBA8 : GL_R32F, w, h);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_RENDERBUFFER,
+                              colors[i]);
+    draw.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
+  }
+  glGenRenderbuffers(1, &depth);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  glDrawBuffers(GLsizei(draw.size()), draw.data());
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    release();
+    throw std::runtime_error("render: framebuffer of " + std::to_string(w) + "x" +
+                             std::to_string(h) + " is incomplete (libOSMesa limits?)");
+  }
+}
+
+void Framebuffer::release() {
+  if (!colors.empty()) glDeleteRenderbuffers(GLsizei(colors.size()), colors.data());
+  if (depth) glDeleteRenderbuffers(1, &depth);
+  if (fbo) glDeleteFramebuffers(1, &fbo);
+  colors.clear();
+  fbo = depth = 0;
+  width = height = 0;
+}
+
+void check_camera(const capture::CameraModel& c, const std::string& what) {
+  if (c.width <= 0 || c.height <= 0 || c.width > kMaxImageSize || c.height > kMaxImageSize)
+    throw std::invalid_argument(what + ": image size " + std::to_string(c.width) + "x" +
+                                std::to_string(c.height) + " is outside 1.." +
+                                std::to_string(kMaxImageSize));
+  if (!(c.fx > 0) || !(c.fy > 0) || !std::isfinite(c.fx) || !std::isfinite(c.fy) ||
+      !std::isfinite(c.cx) || !std::isfinite(c.cy) || !c.cam_from_head.matrix().allFinite())
+    throw std::invalid_argument(what + ": camera needs finite fx, fy > 0, cx, cy and pose");
+}
+
+std::array<double, 2> near_far(const capture::CameraModel& camera, const Eigen::Vector3d& lo,
+                               const Eigen::Vector3d& hi) {
+  double zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
+  for (int i = 0; i < 8; ++i) {
+    const Eigen::Vector3d p(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(),
+                            i & 4 ? hi.z() : lo.z());
+    const double z = capture::depth(camera, p);
+    zmin = std::min(zmin, z);
+    zmax = std::max(zmax, z);
+  }
+  const double margin = 0.01 * (zmax - zmin) + 1.0;
+  double n = zmin - margin, f = zmax + margin;
+  if (camera.projection == capture::Projection::Perspective) {
+    if (f <= 0) return {0.0, 0.0};
+    n = std::max(n, std::max(1e-4 * f, 1e-3));
+  }
+  return {n, f};
+}
+
+std::array<float, 16> clip_from_head(const capture::CameraModel& c, double n, double f) {
+  // clip from camera (OpenCV axes); window x = u, window y = v (image row, not flipped).
+  Eigen::Matrix4d p = Eigen::Matrix4d::Zero();
+  const double ax = 2 * c.fx / c.width, bx = 2 * c.cx / c.width - 1;
+  const double ay = 2 * c.fy / c.height, by = 2 * c.cy / c.height - 1;
+  if (c.projection == capture::Projection::Orthographic) {
+    p << ax, 0, 0, bx, 0, ay, 0, by, 0, 0, 2 / (f - n), -(f + n) / (f - n), 0, 0, 0, 1;
+  } else {
+    p << ax, 0, bx, 0, 0, ay, by, 0, 0, 0, (f + n) / (f - n), -2 * f * n / (f - n), 0, 0, 1, 0;
+  }
+  const Eigen::Matrix4d m = p * c.cam_from_head.matrix();
+  std::array<float, 16> out{};
+  for (int col = 0; col < 4; ++col)
+    for (int row = 0; row < 4; ++row) out[col * 4 + row] = float(m(row, col));
+  return out;
+}
+
+std::array<float, 4> zcam_row(const capture::CameraModel& c) {
+  const Eigen::Matrix4d m = c.cam_from_head.matrix();
+  return {float(m(2, 0)), float(m(2, 1)), float(m(2, 2)), float(m(2, 3))};
+}
+
+GLuint upload_texture(const cv::Mat& image, GLuint tex) {
+  cv::Mat rgba;
+  if (image.channels() == 4) cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
+  else cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  if (rgba.cols > max_size || rgba.rows > max_size) {
+    const double s = double(max_size) / std::max(rgba.cols, rgba.rows);
+    cv::resize(rgba, rgba, cv::Size(), s, s, cv::INTER_AREA);
+  }
+  if (!tex) glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, rgba.cols, rgba.rows, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               rgba.data);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return tex;
+}
+
+std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh) {
+  std::vector<Eigen::Vector3d> n(mesh.vertices.size(), Eigen::Vector3d::Zero());
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[t[0]];
+    const Eigen::Vector3d fn = (mesh.vertices[t[1]] - a).cross(mesh.vertices[t[2]] - a);
+    for (int k = 0; k < 3; ++k) n[t[k]] += fn;  // |fn| = 2 * area: area weighting
+  }
+  for (auto& v : n) {
+    const double len = v.norm();
+    if (len > 0) v /= len;
+  }
+  return n;
+}
+
+}  // namespace orthoface::render::gl

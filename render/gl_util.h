@@ -1,0 +1,77 @@
+#pragma once
+
+// Internal to render/: the OSMesa context, shader and framebuffer helpers, and the camera
+// matrices shared by Renderer and ViewSynthesizer. Not used outside render/.
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/osmesa.h>
+#include <GL/glext.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "capture/camera_model.h"
+#include "model/tri_mesh.h"
+#include "render/renderer.h"
+
+namespace orthoface::render::gl {
+
+constexpr int kMaxImageSize = kMaxRenderSize;
+
+// One OSMesa core-profile (3.3) context with a 1x1 default buffer; drawing goes to FBOs.
+// Throws std::runtime_error naming libOSMesa when no context can be created.
+class Context {
+ public:
+  Context();
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+  void make_current();  // cheap when already current
+
+ private:
+  OSMesaContext ctx_ = nullptr;
+  std::vector<unsigned char> buffer_;
+};
+
+// Compiles and links a GLSL program; throws std::runtime_error with the info log.
+GLuint program(const char* vertex_src, const char* fragment_src, const std::string& name);
+
+// An FBO with one RGBA8 colour target, optional R32F targets and a 32F depth buffer.
+struct Framebuffer {
+  GLuint fbo = 0, depth = 0;
+  std::vector<GLuint> colors;  // colors[0] RGBA8, then R32F
+  int width = 0, height = 0;
+  void ensure(int w, int h, int float_targets);  // (re)allocates when the size changes
+  void release();
+};
+
+// Throws std::invalid_argument (prefixed by `what`) when the camera's size is outside
+// 1..kMaxImageSize or its intrinsics are not positive / finite.
+void check_camera(const capture::CameraModel& camera, const std::string& what);
+
+// Near / far z_cam planes (mm) that enclose the axis-aligned box [lo, hi] (head frame) seen by
+// `camera`, with a margin; for perspective near > 0. Returns {0, 0} when the box is behind it.
+std::array<double, 2> near_far(const capture::CameraModel& camera, const Eigen::Vector3d& lo,
+                               const Eigen::Vector3d& hi);
+
+// Clip-space matrix (column-major floats for glUniformMatrix4fv) from head-frame points for
+// `camera`: a head point lands in GL window coordinates exactly at capture::project's pixel
+// position (distortion ignored), with GL window row 0 = image row 0 (upside down in GL, so the
+// readback is already top-left origin and front faces wind clockwise in window space).
+std::array<float, 16> clip_from_head(const capture::CameraModel& camera, double near_mm,
+                                     double far_mm);
+
+// Row 3 of cam_from_head: dot(row, (p_head, 1)) = z_cam.
+std::array<float, 4> zcam_row(const capture::CameraModel& camera);
+
+// Uploads an 8-bit BGR (or BGRA) image as an RGBA texture with linear filtering; image row 0
+// becomes t = 0. Reuses `tex` when non-zero. Large images are downscaled to the GL limit.
+GLuint upload_texture(const cv::Mat& bgr, GLuint tex);
+
+// Per-vertex area-weighted normals (unit; zero for isolated vertices).
+std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh);
+
+}  // namespace orthoface::render::gl
