@@ -1,0 +1,59 @@
+#include "render/shapes.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::render {
+namespace {
+
+cv::Mat procedural_texture(int n) {
+  cv::Mat hsv(n, n, CV_8UC3);
+  const int cells = 16;
+  for (int r = 0; r < n; ++r)
+    for (int c = 0; c < n; ++c) {
+      const bool dark = ((r * cells / n) + (c * cells / n)) % 2 == 1;
+      hsv.at<cv::Vec3b>(r, c) = cv::Vec3b(uchar(180 * c / n), uchar(80 + 150 * r / n),
+                                          uchar(dark ? 110 : 230));
+    }
+  cv::Mat bgr;
+  cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
+  return bgr;
+}
+
+}  // namespace
+
+model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii,
+                            int rings, int segments, int texture_px) {
+  if (rings < 2 || segments < 3)
+    throw std::invalid_argument("uv_ellipsoid: need rings >= 2 and segments >= 3, got " +
+                                std::to_string(rings) + ", " + std::to_string(segments));
+  if (!(radii.minCoeff() > 0) || !radii.allFinite() || !centre.allFinite())
+    throw std::invalid_argument("uv_ellipsoid: radii must be finite and > 0");
+  if (texture_px < 0 || texture_px > 8192)
+    throw std::invalid_argument("uv_ellipsoid: texture_px must be in 0..8192");
+  model::TriMesh m;
+  const int cols = segments + 1;  // the seam column is duplicated for the uvs
+  for (int i = 0; i <= rings; ++i) {
+    const double theta = M_PI * i / rings;
+    for (int j = 0; j <= segments; ++j) {
+      const double phi = 2 * M_PI * j / segments;
+      const Eigen::Vector3d dir(std::sin(theta) * std::sin(phi), std::cos(theta),
+                                std::sin(theta) * std::cos(phi));
+      m.vertices.push_back(centre + radii.cwiseProduct(dir));
+      if (texture_px > 0) m.uvs.emplace_back(double(j) / segments, 1.0 - double(i) / rings);
+    }
+  }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const int a = i * cols + j, b = (i + 1) * cols + j, c = a + 1, d = b + 1;
+      if (i != 0) m.triangles.push_back({a, b, c});          // a, c coincide at the +y pole
+      if (i != rings - 1) m.triangles.push_back({c, b, d});  // b, d coincide at the -y pole
+    }
+  if (texture_px > 0) m.texture = procedural_texture(texture_px);
+  return m;
+}
+
+}  // namespace orthoface::render

@@ -1,0 +1,18 @@
+#pragma once
+
+#include <Eigen/Core>
+
+#include "model/tri_mesh.h"
+
+namespace orthoface::render {
+
+// Closed UV ellipsoid centred at `centre` (head frame, mm) with semi-axes `radii`, cut into
+// `rings` latitude bands (pole at +y) and `segments` longitudes; 2 * segments * (rings - 1)
+// triangles, counter-clockwise from outside. uvs: u = longitude / 2pi measured from +z toward
+// +x, v = 1 at the +y pole. With texture_px > 0 it carries a procedural texture_px square
+// texture (hue bands along u, light/dark checker); else no uvs, no texture.
+// Throws std::invalid_argument for rings < 2, segments < 3, radii <= 0 or texture_px > 8192.
+model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii,
+                            int rings, int segments, int texture_px = 0);
+
+}  // namespace orthoface::render
