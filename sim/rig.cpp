@@ -14,7 +14,7 @@ namespace {
 
 constexpr int kMaxImageSide = 8192;      // render::Renderer's limit
 constexpr double kMaxPoseErrorDeg = 15;  // "small" pose errors
-constexpr double kVisibleTolMm = 3.0;    // depth-test slack for a landmark on the surface
+constexpr double kSelfHitMm = 1.0;       // hits this close to a landmark are its own surface
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("RigOptions: " + what);
@@ -64,23 +64,39 @@ render::RenderOptions render_options(const RigOptions& o, const cv::Scalar& back
   return ro;
 }
 
-// Visible when inside the image and nothing nearer the camera covers it: the landmark's depth
-// is within kVisibleTolMm of the rendered surface in its 3x3 pixel neighbourhood.
-bool visible(const capture::CameraModel& cam, const cv::Mat& depth_mm, const Eigen::Vector3d& p,
+// True when the segment from p toward the camera (length t_max) crosses a triangle farther than
+// kSelfHitMm from p (Moller-Trumbore). An exact ray cast rather than the rendered depth map:
+// at silhouette points (nose tip in the side view, cheeks in the front view) the pixel's ray
+// grazes the surface, so the depth map reads a nearer surface than the landmark.
+bool occluded(const model::TriMesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& dir,
+              double t_max) {
+  for (const auto& tri : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[tri[0]];
+    const Eigen::Vector3d e1 = mesh.vertices[tri[1]] - a, e2 = mesh.vertices[tri[2]] - a;
+    const Eigen::Vector3d h = dir.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-12) continue;
+    const Eigen::Vector3d s = p - a;
+    const double u = s.dot(h) / det;
+    if (u < 0 || u > 1) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = dir.dot(q) / det;
+    if (v < 0 || u + v > 1) continue;
+    const double t = e2.dot(q) / det;
+    if (t > kSelfHitMm && t < t_max) return true;
+  }
+  return false;
+}
+
+// Visible when the landmark projects inside the image and nothing lies between it and the camera.
+bool visible(const model::TriMesh& mesh, const capture::CameraModel& cam, const Eigen::Vector3d& p,
              const Eigen::Vector2d& px) {
-  if (!px.allFinite()) return false;
-  const int c = static_cast<int>(std::floor(px.x())), r = static_cast<int>(std::floor(px.y()));
-  if (c < 0 || r < 0 || c >= depth_mm.cols || r >= depth_mm.rows) return false;
-  const double z = capture::depth(cam, p);
-  float farthest = -std::numeric_limits<float>::infinity();
-  for (int dr = -1; dr <= 1; ++dr)
-    for (int dc = -1; dc <= 1; ++dc) {
-      const int rr = std::clamp(r + dr, 0, depth_mm.rows - 1);
-      const int cc = std::clamp(c + dc, 0, depth_mm.cols - 1);
-      const float d = depth_mm.at<float>(rr, cc);
-      if (std::isfinite(d)) farthest = std::max(farthest, d);
-    }
-  return std::isfinite(farthest) && z <= farthest + kVisibleTolMm;
+  if (!px.allFinite() || px.x() < 0 || px.y() < 0 || px.x() >= cam.width || px.y() >= cam.height)
+    return false;
+  if (cam.projection == capture::Projection::Orthographic)
+    return !occluded(mesh, p, -capture::view_direction(cam), std::numeric_limits<double>::infinity());
+  const Eigen::Vector3d centre = cam.cam_from_head.inverse().translation();
+  return !occluded(mesh, p, (centre - p).normalized(), (centre - p).norm());
 }
 
 void add_clutter(cv::Mat& img, cv::RNG& rng) {
@@ -221,8 +237,8 @@ Capture simulate_capture(const Head& head, const RigOptions& options, render::Re
     t.xyz_mm = p;
     t.front_px = capture::project(cap.true_rig.front, p);
     t.side_px = capture::project(cap.true_rig.side, p);
-    t.visible_front = visible(cap.true_rig.front, views[0].depth_mm, p, t.front_px);
-    t.visible_side = visible(cap.true_rig.side, views[1].depth_mm, p, t.side_px);
+    t.visible_front = visible(head.mesh, cap.true_rig.front, p, t.front_px);
+    t.visible_side = visible(head.mesh, cap.true_rig.side, p, t.side_px);
     cap.landmarks[name] = t;
   }
   return cap;

@@ -46,7 +46,7 @@ struct RigOptions {
 struct LandmarkTruth {
   Eigen::Vector3d xyz_mm = Eigen::Vector3d::Zero();  // head frame
   Eigen::Vector2d front_px = Eigen::Vector2d::Zero(), side_px = Eigen::Vector2d::Zero();
-  bool visible_front = false, visible_side = false;  // in the image and not hidden (depth test)
+  bool visible_front = false, visible_side = false;  // in the image, no surface in front (ray cast)
 };
 
 // What the rig produced: the photos plus everything a test needs to score a result.
