@@ -1,0 +1,152 @@
+#include "model/adapt.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "model/adapt_detail.h"
+
+namespace orthoface::model {
+namespace {
+
+struct Spread {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero(), rms = Eigen::Vector2d::Zero();
+};
+
+Spread spread_of(const std::vector<Eigen::Vector2d>& pts) {
+  Spread s;
+  for (const auto& p : pts) s.centre += p;
+  s.centre /= static_cast<double>(pts.size());
+  for (const auto& p : pts) s.rms += (p - s.centre).cwiseAbs2();
+  s.rms = (s.rms / static_cast<double>(pts.size())).cwiseSqrt();
+  return s;
+}
+
+// Without usable features: heights from the observed range, width from the silhouette.
+Alignment align_by_boundary(const BaseMesh& base, const StereoData& data) {
+  Alignment a;
+  const double b_top = base.slice_heights.front(), b_bottom = base.slice_heights.back();
+  a.scale.y() = (data.y_top - data.y_bottom) / (b_top - b_bottom);
+  a.translation.y() = data.y_top - a.scale.y() * b_top;
+  const double y_mid = 0.5 * (data.y_top + data.y_bottom);
+  const auto l = silhouette_x_at(data, y_mid, +1), r = silhouette_x_at(data, y_mid, -1);
+  const double base_y = (y_mid - a.translation.y()) / a.scale.y();
+  if (l && r && *l > *r) {
+    a.scale.x() = (*l - *r) / (2.0 * generic_half_width(base_y));
+    a.translation.x() = 0.5 * (*l + *r);
+  }
+  return a;
+}
+
+}  // namespace
+
+void AdaptOptions::check() const {
+  if (k < 1) throw std::invalid_argument("AdaptOptions: k must be >= 1, got " + std::to_string(k));
+  if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0)
+    throw std::invalid_argument("AdaptOptions: blend_rings, blend_iterations and "
+                                "max_fold_passes must be >= 0");
+}
+
+double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x) {
+  if (base_r == base_l)
+    throw std::invalid_argument("interpolate_between: the base boundary vertices coincide");
+  return x_l + (x_r - x_l) * (base_x - base_l) / (base_r - base_l);  // seed 004 eq. 2
+}
+
+std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<Eigen::Vector3d>& landmarks,
+                                                const std::vector<Eigen::Vector3d>& displacements,
+                                                int k) {
+  if (landmarks.size() != displacements.size())
+    throw std::invalid_argument("nnwa_displacements: landmarks and displacements differ in size");
+  if (k < 1 || k > static_cast<int>(landmarks.size()))
+    throw std::invalid_argument("nnwa_displacements: k = " + std::to_string(k) +
+                                " must be in [1, " + std::to_string(landmarks.size()) +
+                                "] (the landmark count)");
+  std::vector<Eigen::Vector3d> out(points.size());
+  std::vector<std::pair<double, int>> d(landmarks.size());
+  for (size_t j = 0; j < points.size(); ++j) {
+    for (size_t i = 0; i < landmarks.size(); ++i)
+      d[i] = {(landmarks[i] - points[j]).squaredNorm(), static_cast<int>(i)};
+    std::partial_sort(d.begin(), d.begin() + k, d.end());
+    if (d[0].first < 1e-18) {  // on a landmark: its own displacement (the limit of eq. 3.8)
+      out[j] = displacements[d[0].second];
+      continue;
+    }
+    Eigen::Vector3d num = Eigen::Vector3d::Zero();
+    double den = 0.0;
+    for (int n = 0; n < k; ++n) {  // seed 002 eq. 3.8, weights 1 / d^2
+      num += displacements[d[n].second] / d[n].first;
+      den += 1.0 / d[n].first;
+    }
+    out[j] = num / den;
+  }
+  return out;
+}
+
+Alignment align_base(const BaseMesh& base, const StereoData& data) {
+  std::vector<Eigen::Vector2d> b, o;
+  double zb = 0, zo = 0;
+  int nz = 0;
+  for (const auto& [name, v] : base.features) {
+    const auto it = data.features.find(name);
+    if (it == data.features.end()) continue;
+    b.push_back(base.mesh.vertices[v].head<2>());
+    o.push_back(it->second.head_mm.head<2>());
+    if (it->second.has_depth) zb += base.mesh.vertices[v].z(), zo += it->second.head_mm.z(), ++nz;
+  }
+  Alignment a = align_by_boundary(base, data);
+  if (b.size() >= 3) {
+    const Spread sb = spread_of(b), so = spread_of(o);
+    if (sb.rms.minCoeff() > 1e-6 && so.rms.minCoeff() > 1e-6) {
+      a.scale.head<2>() = so.rms.cwiseQuotient(sb.rms);  // seed 002 §3.3.1: x, y separately
+      a.translation.head<2>() = so.centre - a.scale.head<2>().cwiseProduct(sb.centre);
+    }
+  }
+  a.scale.z() = a.scale.x();  // z like x (seed 002, after Fleming and Dobbs)
+  if (nz > 0) {
+    a.translation.z() = (zo - a.scale.z() * zb) / nz;
+  } else {  // depth from the profile at the centre of the observed heights
+    const double y = 0.5 * (data.y_top + data.y_bottom);
+    const double base_y = (y - a.translation.y()) / a.scale.y();
+    const auto z = profile_z_at(data, y);
+    if (z) a.translation.z() = *z - a.scale.z() * generic_face_depth(0.0, base_y);
+  }
+  return a;
+}
+
+AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptions& options) {
+  options.check();
+  AdaptResult r;
+  r.warnings = data.warnings;
+  r.alignment = align_base(base, data);
+  const std::vector<Eigen::Vector3d> aligned = detail::apply(r.alignment, base.mesh.vertices);
+  r.targets = landmark_targets(base, aligned, data, options, &r.warnings);
+  const int n_landmarks = static_cast<int>(r.targets.vertices.size());
+  if (n_landmarks < 3)
+    throw std::invalid_argument("cannot reconstruct: only " + std::to_string(n_landmarks) +
+                                " base vertices have 3D data (need the silhouette and profile)");
+  if (options.k > n_landmarks)
+    throw std::invalid_argument("AdaptOptions: k = " + std::to_string(options.k) +
+                                " exceeds the landmark count " + std::to_string(n_landmarks));
+  std::vector<Eigen::Vector3d> moved =
+      options.method == AdaptMethod::Nnwa
+          ? detail::move_by_nnwa(aligned, r.targets, options.k)
+          : detail::move_by_interpolation(base, aligned, r.targets, options.k);
+  const auto adjacency = detail::vertex_adjacency(base.mesh);
+  detail::blend_near_features(adjacency, aligned, r.targets, options, moved);
+  r.mesh = base.mesh;
+  r.mesh.vertices = moved;
+  TriMesh reference = base.mesh;
+  reference.vertices = aligned;
+  const auto [fixed, remaining] =
+      detail::remove_folds(adjacency, reference, r.targets, options.max_fold_passes, r.mesh);
+  r.folds_fixed = fixed;
+  r.folds_remaining = remaining;
+  if (remaining > 0)
+    r.warnings.push_back(std::to_string(remaining) + " triangles stay flipped after relaxation");
+  for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
+  return r;
+}
+
+}  // namespace orthoface::model

@@ -1,0 +1,82 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "model/base_mesh.h"
+#include "model/stereo.h"
+#include "model/tri_mesh.h"
+
+namespace orthoface::model {
+
+enum class AdaptMethod {
+  Nnwa,        // seed 002 eq. 3.7-3.9: k nearest landmarks, inverse-square weights
+  Interpolate  // seed 004 eq. 2: linear between the boundary vertices of the same slice
+};
+
+struct AdaptOptions {
+  AdaptMethod method = AdaptMethod::Nnwa;
+  int k = 5;                         // NNWA neighbours; 1 <= k <= number of landmarks
+  int blend_rings = 2;               // free vertices this close to a feature get smoothed
+  int blend_iterations = 3;          // smoothing passes of their displacement
+  int max_fold_passes = 20;          // relaxation passes to remove flipped triangles
+  std::vector<std::string> ignored_features;  // observed features to treat as non-feature
+  void check() const;                // throws std::invalid_argument (k < 1, negative counts)
+};
+
+// Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made
+// equal; x and y scaled separately by the landmarks' spread, z scaled like x).
+struct Alignment {
+  Eigen::Vector3d scale = Eigen::Vector3d::Ones();
+  Eigen::Vector3d translation = Eigen::Vector3d::Zero();
+};
+Alignment align_base(const BaseMesh& base, const StereoData& data);
+
+// The base vertices that get 3D data (boundary of each slice inside the observed heights and
+// the observed features) and their target positions, head frame mm. `aligned` = the aligned
+// base (used for depths the views do not give: silhouette z, front-only features).
+struct LandmarkTargets {
+  std::vector<int> vertices;
+  std::vector<Eigen::Vector3d> positions;
+  std::vector<std::string> names;  // landmark name, or "" for a boundary vertex
+};
+LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
+                                 const StereoData& data, const AdaptOptions& options,
+                                 std::vector<std::string>* warnings = nullptr);
+
+// Seed 002 eq. 3.8: for each point, the inverse-square-distance weighted mean of the
+// displacements of its k nearest landmarks (exact at a landmark). Throws std::invalid_argument
+// for k < 1, k > landmarks.size() or sizes that differ.
+std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3d>& points,
+                                                const std::vector<Eigen::Vector3d>& landmarks,
+                                                const std::vector<Eigen::Vector3d>& displacements,
+                                                int k);
+
+// Seed 004 eq. 2: x1 = x_l + (x_r - x_l) (x1' - x_l') / (x_r' - x_l'). Throws
+// std::invalid_argument when x_r' == x_l'.
+double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x);
+
+struct AdaptResult {
+  TriMesh mesh;                                   // adapted base mesh (base uvs kept)
+  std::map<std::string, Eigen::Vector3d> landmarks;  // named features after adaptation
+  LandmarkTargets targets;                        // what the data fixed
+  Alignment alignment;
+  int folds_fixed = 0, folds_remaining = 0;       // flipped triangles vs the aligned base
+  std::vector<std::string> warnings;
+};
+
+// Adapts the base mesh to stereo data (seed 004 §5, seed 002 §3.3). Throws
+// std::invalid_argument on bad options, or k larger than the landmark count.
+AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptions& options = {});
+
+// Baseline (seed 002 §3.4): the base mesh moved by the similarity (rotation, uniform scale,
+// translation) that best maps its landmark vertices onto the same targets adapt() uses.
+TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data, const AdaptOptions& options = {});
+
+// Number of triangles whose normal turned by more than 90° from `reference` (same topology).
+int count_folds(const TriMesh& mesh, const TriMesh& reference);
+
+}  // namespace orthoface::model

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "model/adapt.h"
+
+// Sub-steps of adapt() shared by adapt.cpp, adapt_steps.cpp and procrustes.cpp (not public API).
+namespace orthoface::model::detail {
+
+std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::Vector3d>& v);
+
+std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh);
+
+// Aligned positions with the targets set and the others moved by NNWA (seed 002 eq. 3.9).
+std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& aligned,
+                                          const LandmarkTargets& targets, int k);
+
+// Aligned positions with the targets set and the others moved by seed 004 eq. 2 along their
+// slice; slices without boundary data fall back to NNWA.
+std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
+                                                   const std::vector<Eigen::Vector3d>& aligned,
+                                                   const LandmarkTargets& targets, int k);
+
+// Smooths the displacement of free vertices within options.blend_rings of a feature target.
+void blend_near_features(const std::vector<std::vector<int>>& adjacency,
+                         const std::vector<Eigen::Vector3d>& aligned,
+                         const LandmarkTargets& targets, const AdaptOptions& options,
+                         std::vector<Eigen::Vector3d>& moved);
+
+// Relaxes vertices of flipped triangles (free ones first, then any) until none is flipped or
+// the passes run out. Returns {folds found at the start, folds left}.
+std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
+                                 const TriMesh& reference, const LandmarkTargets& targets,
+                                 int max_passes, TriMesh& mesh);
+
+}  // namespace orthoface::model::detail

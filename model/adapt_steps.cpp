@@ -1,0 +1,219 @@
+// Sub-steps of the adaptation: landmark targets, the two ways to move free vertices, blending
+// and fold removal.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <queue>
+#include <set>
+
+#include <Eigen/Geometry>
+
+#include "model/adapt.h"
+#include "model/adapt_detail.h"
+
+namespace orthoface::model {
+namespace {
+
+void add_boundary_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
+                          const StereoData& data, std::map<int, Eigen::Vector3d>& t) {
+  for (size_t s = 0; s < base.slices.size(); ++s) {
+    const int c = base.centre(static_cast<int>(s));
+    const double y = aligned[c].y();
+    if (y > data.y_top || y < data.y_bottom) continue;  // no data at this height
+    const int right = base.slices[s].front(), left = base.slices[s].back();
+    if (auto x = silhouette_x_at(data, y, -1)) t[right] = {*x, y, aligned[right].z()};
+    if (auto x = silhouette_x_at(data, y, +1)) t[left] = {*x, y, aligned[left].z()};
+    if (auto z = profile_z_at(data, y)) t[c] = {centre_x_at(data, y), y, *z};  // seed 004 eq. 1
+  }
+}
+
+}  // namespace
+
+LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
+                                 const StereoData& data, const AdaptOptions& options,
+                                 std::vector<std::string>* warnings) {
+  std::map<int, Eigen::Vector3d> t;
+  std::map<int, std::string> names;
+  add_boundary_targets(base, aligned, data, t);
+  std::vector<std::pair<int, Eigen::Vector3d>> no_depth;
+  const std::set<std::string> ignored(options.ignored_features.begin(),
+                                      options.ignored_features.end());
+  for (const auto& [name, v] : base.features) {
+    const auto it = data.features.find(name);
+    if (it == data.features.end() || ignored.count(name)) {
+      if (warnings && it == data.features.end())
+        warnings->push_back("feature '" + name + "' not observed: moved as a non-feature vertex");
+      continue;
+    }
+    names[v] = name;
+    if (it->second.has_depth) t[v] = it->second.head_mm;
+    else no_depth.push_back({v, it->second.head_mm}), t.erase(v);
+  }
+  LandmarkTargets out;
+  for (const auto& [v, p] : t) {
+    out.vertices.push_back(v);
+    out.positions.push_back(p);
+    out.names.push_back(names.count(v) ? names[v] : "");
+  }
+  if (no_depth.empty() || out.vertices.empty()) return out;
+  // Front-only features: x and y from the front view, z from NNWA over the 3D points.
+  std::vector<Eigen::Vector3d> lm, disp, query;
+  for (size_t i = 0; i < out.vertices.size(); ++i)
+    lm.push_back(aligned[out.vertices[i]]), disp.push_back(out.positions[i] - lm.back());
+  for (const auto& [v, p] : no_depth) query.push_back(aligned[v]);
+  const int k = std::min<int>(options.k, static_cast<int>(lm.size()));
+  const auto d = nnwa_displacements(query, lm, disp, k);
+  for (size_t i = 0; i < no_depth.size(); ++i) {
+    const int v = no_depth[i].first;
+    out.vertices.push_back(v);
+    out.positions.push_back({no_depth[i].second.x(), no_depth[i].second.y(), aligned[v].z() + d[i].z()});
+    out.names.push_back(names[v]);
+  }
+  return out;
+}
+
+int count_folds(const TriMesh& mesh, const TriMesh& reference) {
+  if (mesh.vertices.size() != reference.vertices.size() ||
+      mesh.triangles.size() != reference.triangles.size())
+    throw std::invalid_argument("count_folds: mesh and reference differ in size");
+  int folds = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& f = mesh.triangles[t];
+    auto normal = [&](const TriMesh& m) {
+      return (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+    };
+    if (normal(mesh).dot(normal(reference)) <= 0) ++folds;
+  }
+  return folds;
+}
+
+namespace detail {
+
+std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::Vector3d>& v) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(v.size());
+  for (const auto& p : v) out.push_back(a.scale.cwiseProduct(p) + a.translation);
+  return out;
+}
+
+std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh) {
+  std::vector<std::vector<int>> adj(mesh.vertices.size());
+  for (const auto& f : mesh.triangles)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (i != j && std::find(adj[f[i]].begin(), adj[f[i]].end(), f[j]) == adj[f[i]].end())
+          adj[f[i]].push_back(f[j]);
+  return adj;
+}
+
+std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& aligned,
+                                          const LandmarkTargets& targets, int k) {
+  std::vector<Eigen::Vector3d> lm, disp;
+  for (size_t i = 0; i < targets.vertices.size(); ++i) {
+    lm.push_back(aligned[targets.vertices[i]]);
+    disp.push_back(targets.positions[i] - lm.back());  // seed 002 eq. 3.7 (custom - original)
+  }
+  const auto d = nnwa_displacements(aligned, lm, disp, k);
+  std::vector<Eigen::Vector3d> out(aligned.size());
+  for (size_t j = 0; j < aligned.size(); ++j) out[j] = aligned[j] + d[j];  // eq. 3.9
+  for (size_t i = 0; i < targets.vertices.size(); ++i)
+    out[targets.vertices[i]] = targets.positions[i];
+  return out;
+}
+
+std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
+                                                   const std::vector<Eigen::Vector3d>& aligned,
+                                                   const LandmarkTargets& targets, int k) {
+  std::vector<Eigen::Vector3d> out = move_by_nnwa(aligned, targets, k);  // fallback
+  std::map<int, Eigen::Vector3d> fixed;
+  for (size_t i = 0; i < targets.vertices.size(); ++i)
+    fixed[targets.vertices[i]] = targets.positions[i];
+  for (size_t s = 0; s < base.slices.size(); ++s) {
+    const std::vector<int>& ids = base.slices[s];
+    const int mid = static_cast<int>(ids.size()) / 2;
+    if (!fixed.count(ids.front()) || !fixed.count(ids.back()) || !fixed.count(ids[mid])) continue;
+    for (int i = 1; i + 1 < static_cast<int>(ids.size()); ++i) {
+      if (i == mid || fixed.count(ids[i])) continue;
+      const int bl = i < mid ? ids.front() : ids[mid], br = i < mid ? ids[mid] : ids.back();
+      const Eigen::Vector3d &l = fixed[bl], &r = fixed[br];
+      const Eigen::Vector3d &l0 = aligned[bl], &r0 = aligned[br], &a0 = aligned[ids[i]];
+      const double t = (a0.x() - l0.x()) / (r0.x() - l0.x());
+      Eigen::Vector3d p;
+      p.x() = interpolate_between(l.x(), r.x(), l0.x(), r0.x(), a0.x());  // seed 004 eq. 2
+      // The same linear rule for depth; height keeps the boundary's vertical shift.
+      p.z() = std::abs(r0.z() - l0.z()) > 1e-6
+                  ? interpolate_between(l.z(), r.z(), l0.z(), r0.z(), a0.z())
+                  : a0.z() + (1 - t) * (l.z() - l0.z()) + t * (r.z() - r0.z());
+      p.y() = a0.y() + (1 - t) * (l.y() - l0.y()) + t * (r.y() - r0.y());
+      out[ids[i]] = p;
+    }
+  }
+  return out;
+}
+
+void blend_near_features(const std::vector<std::vector<int>>& adjacency,
+                         const std::vector<Eigen::Vector3d>& aligned,
+                         const LandmarkTargets& targets, const AdaptOptions& options,
+                         std::vector<Eigen::Vector3d>& moved) {
+  const int n = static_cast<int>(moved.size());
+  std::vector<int> ring(n, -1);
+  std::vector<bool> is_target(n, false);
+  std::queue<int> q;
+  for (size_t i = 0; i < targets.vertices.size(); ++i) {
+    is_target[targets.vertices[i]] = true;
+    if (!targets.names[i].empty()) ring[targets.vertices[i]] = 0, q.push(targets.vertices[i]);
+  }
+  while (!q.empty()) {
+    const int v = q.front();
+    q.pop();
+    if (ring[v] >= options.blend_rings) continue;
+    for (int w : adjacency[v])
+      if (ring[w] < 0) ring[w] = ring[v] + 1, q.push(w);
+  }
+  std::vector<Eigen::Vector3d> d(n);
+  for (int v = 0; v < n; ++v) d[v] = moved[v] - aligned[v];
+  for (int it = 0; it < options.blend_iterations; ++it) {
+    std::vector<Eigen::Vector3d> next = d;
+    for (int v = 0; v < n; ++v) {
+      if (ring[v] <= 0 || is_target[v]) continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int w : adjacency[v]) mean += d[w];
+      next[v] = 0.5 * d[v] + 0.5 * mean / static_cast<double>(adjacency[v].size());
+    }
+    d.swap(next);
+  }
+  for (int v = 0; v < n; ++v) moved[v] = aligned[v] + d[v];
+}
+
+std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
+                                 const TriMesh& reference, const LandmarkTargets& targets,
+                                 int max_passes, TriMesh& mesh) {
+  std::vector<bool> is_target(mesh.vertices.size(), false);
+  for (int v : targets.vertices) is_target[v] = true;
+  const int initial = count_folds(mesh, reference);
+  int folds = initial;
+  for (int pass = 0; pass < max_passes && folds > 0; ++pass) {
+    const bool move_targets = pass >= max_passes / 2;  // data points give way last
+    std::set<int> loose;
+    for (const auto& f : mesh.triangles) {
+      const Eigen::Vector3d n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
+                                    .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
+      const Eigen::Vector3d n0 = (reference.vertices[f[1]] - reference.vertices[f[0]])
+                                     .cross(reference.vertices[f[2]] - reference.vertices[f[0]]);
+      if (n.dot(n0) > 0) continue;
+      for (int v : f)
+        for (int w : adjacency[v]) loose.insert(w), loose.insert(v);
+    }
+    for (int v : loose) {
+      if (is_target[v] && !move_targets) continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int w : adjacency[v]) mean += mesh.vertices[w];
+      mesh.vertices[v] = 0.5 * mesh.vertices[v] + 0.5 * mean / double(adjacency[v].size());
+    }
+    folds = count_folds(mesh, reference);
+  }
+  return {initial, folds};
+}
+
+}  // namespace detail
+}  // namespace orthoface::model

@@ -1,0 +1,51 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "model/tri_mesh.h"
+
+namespace orthoface::model {
+
+// Vertex groups of seed 004 §5. Boundary = silhouette extremes of each slice and the centre
+// line; Feature = a vertex named by a vision/landmarks.h name (a midline feature also lies on
+// the centre line); NonFeature = the rest.
+enum class VertexGroup { Boundary, Feature, NonFeature };
+
+struct BaseMeshOptions {
+  int vertices_per_slice = 41;  // odd, >= 9: contour points from subject right to left
+  double max_slice_gap_mm = 6;  // slices are added between characteristic heights until
+                                // no gap exceeds this
+  void check() const;           // throws std::invalid_argument
+};
+
+// The generic face, front half of an average adult head in the head frame (mm, DESIGN.md),
+// sliced horizontally at characteristic heights (seed 004 §5). Built analytically here, so it
+// carries no third-party data.
+struct BaseMesh {
+  TriMesh mesh;                          // with uvs (u = contour angle, v = height)
+  std::vector<VertexGroup> groups;       // one per vertex
+  std::vector<int> slice_of_vertex;      // slice index per vertex
+  std::vector<std::vector<int>> slices;  // per slice, top to bottom: vertex ids from the
+                                         // subject's right extreme (-x) to the left (+x)
+  std::vector<double> slice_heights;     // y (mm) of each slice
+  std::vector<std::string> slice_names;  // "" or the characteristic height it stands for
+  std::map<std::string, int> features;   // landmark name -> vertex id
+  int centre(int slice) const { return slices[slice][slices[slice].size() / 2]; }
+};
+
+// Builds the base mesh (1,000–5,000 triangles with the default options). Deterministic.
+// Throws std::invalid_argument when options.check() fails.
+BaseMesh base_mesh(const BaseMeshOptions& options = {});
+
+// Depth z (mm) of the generic face surface at (x, y); the analytic shape the base mesh samples.
+// Outside the face's half-width it returns the silhouette depth.
+double generic_face_depth(double x_mm, double y_mm);
+
+// Half-width (mm) of the generic head's front silhouette at height y.
+double generic_half_width(double y_mm);
+
+}  // namespace orthoface::model

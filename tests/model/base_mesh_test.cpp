@@ -1,0 +1,93 @@
+#include "model/base_mesh.h"
+
+#include <set>
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include "vision/landmarks.h"
+
+namespace orthoface::model {
+namespace {
+
+TEST(BaseMesh, TriangleCountAndGroups) {
+  const BaseMesh b = base_mesh();
+  check_mesh(b.mesh, "base");
+  const int tris = static_cast<int>(b.mesh.triangles.size());
+  EXPECT_GE(tris, 1000);
+  EXPECT_LE(tris, 5000);
+  ASSERT_EQ(b.groups.size(), b.mesh.vertices.size());
+  ASSERT_EQ(b.mesh.uvs.size(), b.mesh.vertices.size());
+  int boundary = 0, feature = 0, other = 0;
+  for (VertexGroup g : b.groups)
+    (g == VertexGroup::Boundary ? boundary : g == VertexGroup::Feature ? feature : other)++;
+  // 3 boundary vertices per slice (2 extremes + centre), minus those that carry a feature name.
+  EXPECT_EQ(feature, static_cast<int>(b.features.size()));
+  EXPECT_EQ(boundary + feature + other, static_cast<int>(b.mesh.vertices.size()));
+  int feature_on_boundary = 0;
+  for (size_t s = 0; s < b.slices.size(); ++s)
+    for (int v : {b.slices[s].front(), b.centre(static_cast<int>(s)), b.slices[s].back()})
+      if (b.groups[v] == VertexGroup::Feature) ++feature_on_boundary;
+  EXPECT_EQ(boundary + feature_on_boundary, 3 * static_cast<int>(b.slices.size()));
+  EXPECT_EQ(b.features.size(), 26u);  // all landmarks except the four ear points
+}
+
+TEST(BaseMesh, FeaturesAreNamedLandmarksAtPlausiblePlaces) {
+  const BaseMesh b = base_mesh();
+  std::set<int> used;
+  for (const auto& [name, v] : b.features) {
+    EXPECT_TRUE(vision::is_landmark_name(name)) << name;
+    EXPECT_TRUE(used.insert(v).second) << name << " shares a vertex";
+    const Eigen::Vector3d p = b.mesh.vertices[v];
+    if (vision::mirrored_name(name) == name) EXPECT_DOUBLE_EQ(p.x(), 0.0) << name;
+    if (name.find("_left") != std::string::npos) EXPECT_GT(p.x(), 0.0) << name;
+    if (name.find("_right") != std::string::npos) EXPECT_LT(p.x(), 0.0) << name;
+  }
+  const auto& v = b.mesh.vertices;
+  EXPECT_GT(v[b.features.at("nose_tip")].z(), v[b.features.at("subnasale")].z() + 10);
+  EXPECT_GT(v[b.features.at("nose_tip")].z(), v[b.features.at("eye_left_center")].z() + 25);
+  EXPECT_GT(v[b.features.at("forehead_top")].y(), v[b.features.at("eye_left_center")].y());
+  EXPECT_GT(v[b.features.at("lip_upper")].y(), v[b.features.at("lip_lower")].y());
+  EXPECT_LT(v[b.features.at("chin_bottom")].y(), v[b.features.at("chin")].y());
+}
+
+TEST(BaseMesh, SlicesAreHorizontalAndOrderedRightToLeft) {
+  const BaseMesh b = base_mesh();
+  for (size_t s = 0; s < b.slices.size(); ++s) {
+    const auto& ids = b.slices[s];
+    for (size_t i = 0; i < ids.size(); ++i) {
+      EXPECT_DOUBLE_EQ(b.mesh.vertices[ids[i]].y(), b.slice_heights[s]);
+      if (i > 0) EXPECT_GT(b.mesh.vertices[ids[i]].x(), b.mesh.vertices[ids[i - 1]].x());
+    }
+    if (s > 0) EXPECT_LT(b.slice_heights[s], b.slice_heights[s - 1]);
+  }
+  // Outward normals: every triangle faces the front camera or the side (n.z >= 0 mostly).
+  int facing = 0;
+  for (const auto& f : b.mesh.triangles) {
+    const Eigen::Vector3d n = (b.mesh.vertices[f[1]] - b.mesh.vertices[f[0]])
+                                  .cross(b.mesh.vertices[f[2]] - b.mesh.vertices[f[0]]);
+    if (n.z() > 0) ++facing;
+  }
+  EXPECT_GT(facing, static_cast<int>(b.mesh.triangles.size() * 0.9));
+}
+
+TEST(BaseMesh, CoarsestOptionsStillWork) {
+  BaseMeshOptions o;
+  o.vertices_per_slice = 9;
+  o.max_slice_gap_mm = 100;
+  const BaseMesh b = base_mesh(o);
+  EXPECT_EQ(b.slices.size(), 12u);  // only the characteristic heights
+  check_mesh(b.mesh, "coarse base");
+}
+
+TEST(BaseMesh, BadOptionsThrow) {
+  BaseMeshOptions o;
+  o.vertices_per_slice = 40;
+  EXPECT_THROW(base_mesh(o), std::invalid_argument);
+  o.vertices_per_slice = 41;
+  o.max_slice_gap_mm = 0;
+  EXPECT_THROW(base_mesh(o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace orthoface::model

@@ -1,0 +1,88 @@
+#include "model/evaluate.h"
+
+#include <gtest/gtest.h>
+
+#include "model/base_mesh.h"
+
+namespace orthoface::model {
+namespace {
+
+FaceRegion whole_base_region() {
+  return {100.0, -100.0, -1000.0};
+}
+
+TEST(ReconstructionError, SelfIsZeroAndOffsetIsOffsetOverDiagonal) {
+  const BaseMesh b = base_mesh();
+  const ErrorReport self = reconstruction_error(b.mesh, b.mesh, whole_base_region());
+  EXPECT_NEAR(self.mean_mm, 0.0, 1e-9);
+  EXPECT_NEAR(self.relative, 0.0, 1e-12);
+  // A plane 2 mm in front of a plane: every sample is 2 mm away.
+  TriMesh plane;
+  plane.vertices = {{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}};
+  plane.triangles = {{0, 1, 2}, {0, 2, 3}};
+  TriMesh shifted = plane;
+  for (auto& v : shifted.vertices) v.z() += 2.0;
+  const ErrorReport e = reconstruction_error(shifted, plane, {60, -60, -10});
+  EXPECT_NEAR(e.mean_mm, 2.0, 1e-9);
+  EXPECT_NEAR(e.diagonal_mm, std::sqrt(2.0) * 100.0, 1e-9);
+  EXPECT_NEAR(e.relative, 2.0 / (std::sqrt(2.0) * 100.0), 1e-12);
+}
+
+TEST(ReconstructionError, LandmarkErrors) {
+  const BaseMesh b = base_mesh();
+  const ErrorReport e = reconstruction_error(
+      b.mesh, b.mesh, whole_base_region(), {{"nose_tip", {0, 0, 3}}, {"chin", {0, 0, 0}}},
+      {{"nose_tip", {0, 4, 0}}, {"eye_left_center", {0, 0, 0}}});
+  ASSERT_EQ(e.landmark_mm.size(), 1u);
+  EXPECT_NEAR(e.landmark_mm.at("nose_tip"), 5.0, 1e-12);
+  EXPECT_NEAR(e.landmark_mean_mm, 5.0, 1e-12);
+}
+
+TEST(ReconstructionError, EmptyRegionAndBadMeshThrow) {
+  const BaseMesh b = base_mesh();
+  EXPECT_THROW(reconstruction_error(b.mesh, b.mesh, {500, 400, 0}), std::invalid_argument);
+  TriMesh empty;
+  EXPECT_THROW(reconstruction_error(empty, b.mesh, whole_base_region()), std::invalid_argument);
+}
+
+TEST(SignedDistances, SignFollowsNormalsAndFarPointsWork) {
+  const BaseMesh b = base_mesh();
+  const Eigen::Vector3d tip = b.mesh.vertices[b.centre(2)];  // flat forehead
+  const auto d = signed_distances({tip + Eigen::Vector3d(0, 0, 4), tip - Eigen::Vector3d(0, 0, 3),
+                                   Eigen::Vector3d(0, 0, 900)},
+                                  b.mesh);
+  EXPECT_NEAR(d[0], 4.0, 0.3);
+  EXPECT_NEAR(d[1], -3.0, 0.5);
+  EXPECT_NEAR(d[2], 900.0 - tip.z(), 1.0);
+}
+
+TEST(FaceRegion, FromLandmarks) {
+  const FaceRegion r = face_region({{"forehead_top", {0, 80, 90}},
+                                    {"chin_bottom", {0, -80, 80}},
+                                    {"ear_left_tragus", {70, 0, 2}},
+                                    {"ear_right_tragus", {-70, 0, -4}}});
+  EXPECT_DOUBLE_EQ(r.y_top, 80);
+  EXPECT_DOUBLE_EQ(r.y_bottom, -80);
+  EXPECT_DOUBLE_EQ(r.z_min, -1);
+  EXPECT_TRUE(r.contains({0, 0, 0}));
+  EXPECT_FALSE(r.contains({0, 0, -2}));
+  EXPECT_THROW(face_region({{"forehead_top", {0, 80, 90}}}), std::invalid_argument);
+  EXPECT_THROW(face_region({{"forehead_top", {0, -90, 90}}, {"chin_bottom", {0, -80, 80}}}),
+               std::invalid_argument);
+}
+
+TEST(ErrorColored, BlueGreenRed) {
+  const BaseMesh b = base_mesh();
+  std::vector<double> err(b.mesh.vertices.size(), 0.0);
+  err[0] = -5, err[1] = 5, err[2] = 1;
+  const TriMesh c = error_colored(b.mesh, err, 2.0);
+  EXPECT_EQ(c.colors[0], Eigen::Vector3d(0, 0, 1));
+  EXPECT_EQ(c.colors[1], Eigen::Vector3d(1, 0, 0));
+  EXPECT_EQ(c.colors[2], Eigen::Vector3d(0.5, 0.5, 0));
+  EXPECT_EQ(c.colors[3], Eigen::Vector3d(0, 1, 0));
+  EXPECT_THROW(error_colored(b.mesh, {1.0}, 2.0), std::invalid_argument);
+  EXPECT_THROW(error_colored(b.mesh, err, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace orthoface::model
