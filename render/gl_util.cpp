@@ -157,6 +157,17 @@ std::array<float, 16> clip_from_head(const capture::CameraModel& c, double n, do
   return out;
 }
 
+void window_depth_to_zcam(cv::Mat& depth, double n, double f, bool perspective) {
+  const cv::Mat empty = depth >= 1.0f;
+  if (perspective) {  // inverse of the clip z: z = f n / (f - d (f - n))
+    depth.convertTo(depth, CV_32F, -(f - n), f);
+    cv::divide(f * n, depth, depth);
+  } else {
+    depth.convertTo(depth, CV_32F, f - n, n);
+  }
+  depth.setTo(std::numeric_limits<float>::infinity(), empty);
+}
+
 std::array<float, 4> zcam_row(const capture::CameraModel& c) {
   const Eigen::Matrix4d m = c.cam_from_head.matrix();
   return {float(m(2, 0)), float(m(2, 1)), float(m(2, 2)), float(m(2, 3))};

@@ -1,7 +1,7 @@
 #pragma once
 
 // Internal to render/: the OSMesa context, shader and framebuffer helpers, and the camera
-// matrices shared by Renderer and ViewSynthesizer. Not used outside render/.
+// matrices shared by Renderer and ViewSynthesizer (and the reference run in bench/render_bench).
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/osmesa.h>
@@ -63,6 +63,10 @@ std::array<double, 2> near_far(const capture::CameraModel& camera, const Eigen::
 // readback is already top-left origin and front faces wind clockwise in window space).
 std::array<float, 16> clip_from_head(const capture::CameraModel& camera, double near_mm,
                                      double far_mm);
+
+// In place: GL window depth (0..1, from a near_far / clip_from_head projection) to z_cam in mm;
+// 1.0 (cleared, nothing drawn) becomes +infinity. `depth` is CV_32F.
+void window_depth_to_zcam(cv::Mat& depth, double near_mm, double far_mm, bool perspective);
 
 // Row 3 of cam_from_head: dot(row, (p_head, 1)) = z_cam.
 std::array<float, 4> zcam_row(const capture::CameraModel& camera);

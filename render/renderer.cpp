@@ -20,14 +20,11 @@ layout(location = 1) in vec3 nrm;
 layout(location = 2) in vec3 col;
 layout(location = 3) in vec2 uv;
 uniform mat4 clip_from_head;
-uniform vec4 zrow;
 out vec3 v_n;
 out vec3 v_col;
 out vec2 v_uv;
-out float v_z;
 void main() {
   gl_Position = clip_from_head * vec4(pos, 1.0);
-  v_z = dot(zrow, vec4(pos, 1.0));
   v_n = nrm;
   v_col = col;
   v_uv = uv;
@@ -37,7 +34,6 @@ const char* kFragment = R"(#version 330 core
 in vec3 v_n;
 in vec3 v_col;
 in vec2 v_uv;
-in float v_z;
 uniform int mode;  // 0 grey, 1 vertex colours, 2 texture
 uniform int wire;
 uniform vec3 wire_color;
@@ -46,9 +42,7 @@ uniform vec3 light_dir;
 uniform float ambient;
 uniform float diffuse;
 layout(location = 0) out vec4 color;
-layout(location = 1) out float zcam;
 void main() {
-  zcam = v_z;
   if (wire == 1) { color = vec4(wire_color, 1.0); return; }
   vec3 albedo = mode == 2 ? texture(tex, vec2(v_uv.x, 1.0 - v_uv.y)).rgb
               : (mode == 1 ? v_col : vec3(0.8));
@@ -186,10 +180,12 @@ struct Renderer::Impl {
     glDeleteProgram(prog);
   }
 
+  // The cached upload of `m`, uploading (after check_mesh) on a miss.
   GpuMesh& mesh(const model::TriMesh& m) {
     const MeshKey key = key_of(m);
     for (auto& g : cache)
       if (g.key == key) return g.last_used = ++clock, g;
+    model::check_mesh(m, "render: mesh");
     if (int(cache.size()) >= kCacheSize) {
       auto oldest = cache.begin();
       for (auto it = cache.begin(); it != cache.end(); ++it)
@@ -207,11 +203,9 @@ struct Renderer::Impl {
                 const RenderOptions& o) {
     const auto nf = gl::near_far(camera, g.lo, g.hi);
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
-    const auto zrow = gl::zcam_row(camera);
     const Eigen::Vector3d d = o.light.direction_head.normalized();
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "clip_from_head"), 1, GL_FALSE, clip.data());
-    glUniform4fv(glGetUniformLocation(prog, "zrow"), 1, zrow.data());
     glUniform1i(glGetUniformLocation(prog, "mode"), g.mode);
     glUniform1i(glGetUniformLocation(prog, "tex"), 0);
     glUniform3f(glGetUniformLocation(prog, "light_dir"), float(d.x()), float(d.y()),
@@ -233,35 +227,34 @@ struct Renderer::Impl {
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.tex);
     glUniform1i(glGetUniformLocation(prog, "wire"), 0);
-    if (o.wireframe) glEnable(GL_POLYGON_OFFSET_FILL), glPolygonOffset(1.0f, 1.0f);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
     if (o.wireframe) {
-      glDisable(GL_POLYGON_OFFSET_FILL);
+      glEnable(GL_POLYGON_OFFSET_LINE);  // lines pulled toward the camera; depth kept exact
+      glPolygonOffset(-1.0f, -1.0f);
       glDepthFunc(GL_LEQUAL);
       glDepthMask(GL_FALSE);
-      glColorMaski(1, GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
       glUniform1i(glGetUniformLocation(prog, "wire"), 1);
       glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
       glDrawElements(GL_TRIANGLES, g.count, GL_UNSIGNED_INT, nullptr);
       glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-      glColorMaski(1, GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+      glDisable(GL_POLYGON_OFFSET_LINE);
       glDepthMask(GL_TRUE);
     }
     glBindVertexArray(0);
   }
 
-  RenderResult read(int w, int h) {
+  RenderResult read(int w, int h, const std::array<double, 2>& nf, bool perspective) {
     RenderResult r;
     cv::Mat bgra(h, w, CV_8UC4);
     r.depth_mm.create(h, w, CV_32F);
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, r.depth_mm.data);
+    glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, r.depth_mm.data);
     cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
-    r.mask = r.depth_mm < std::numeric_limits<float>::infinity();
+    r.mask = r.depth_mm < 1.0f;
+    gl::window_depth_to_zcam(r.depth_mm, nf[0], nf[1], perspective);
     return r;
   }
 };
@@ -271,26 +264,26 @@ Renderer::~Renderer() = default;
 
 RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraModel& camera,
                               const RenderOptions& options) {
-  model::check_mesh(mesh, "render: mesh");
+  if (mesh.vertices.empty() || mesh.triangles.empty())
+    throw std::invalid_argument("render: mesh is empty");
   gl::check_camera(camera, "render: camera");
   impl_->context.make_current();
   const GpuMesh& g = impl_->mesh(mesh);
-  impl_->fb.ensure(camera.width, camera.height, 1);
+  impl_->fb.ensure(camera.width, camera.height, 0);
   glBindFramebuffer(GL_FRAMEBUFFER, impl_->fb.fbo);
   glViewport(0, 0, camera.width, camera.height);
   const float bg[4] = {float(options.background[2] / 255), float(options.background[1] / 255),
                        float(options.background[0] / 255), 1.0f};
-  const float inf[4] = {std::numeric_limits<float>::infinity(), 0, 0, 0};
   const float one = 1.0f;
   glClearBufferfv(GL_COLOR, 0, bg);
-  glClearBufferfv(GL_COLOR, 1, inf);
   glClearBufferfv(GL_DEPTH, 0, &one);
   const auto nf = gl::near_far(camera, g.lo, g.hi);
   if (nf[1] > nf[0]) {
     impl_->uniforms(g, camera, options);
     impl_->draw(g, options);
   }
-  return impl_->read(camera.width, camera.height);
+  return impl_->read(camera.width, camera.height, nf,
+                     camera.projection == capture::Projection::Perspective);
 }
 
 void Renderer::clear_cache() {

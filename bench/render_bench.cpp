@@ -1,0 +1,113 @@
+// Frames per second of the offscreen renderer (textured 640x480) on ellipsoids and sim heads.
+// Prints Google Benchmark JSON by default; the "fps" counter is frames per second.
+// llvmpipe's rasteriser threads follow LP_NUM_THREADS (default: the number of cores).
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "capture/camera_model.h"
+#include "render/gl_util.h"
+#include "render/renderer.h"
+#include "render/shapes.h"
+
+namespace {
+
+using namespace orthoface;
+
+capture::CameraModel view_camera() {
+  const capture::CameraModel front = capture::ideal_rig(640, 480, 1.6).front;
+  return capture::camera_at(front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
+}
+
+model::TriMesh ellipsoid(int triangles) {  // 2 * segments * (rings - 1) triangles
+  const int rings = triangles >= 16000 ? 64 : 32;
+  return render::uv_ellipsoid({0, 0, 0}, {76, 115, 98}, rings, 2 * rings, 1024);
+}
+
+void run(benchmark::State& state, const model::TriMesh& mesh, bool cached) {
+  render::Renderer renderer;
+  const capture::CameraModel cam = view_camera();
+  renderer.render(mesh, cam);  // upload + warm-up
+  for (auto _ : state) {
+    if (!cached) renderer.clear_cache();
+    benchmark::DoNotOptimize(renderer.render(mesh, cam).image.data);
+  }
+  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["triangles"] = double(mesh.triangles.size());
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  state.SetLabel(std::string("LP_NUM_THREADS=") + (threads ? threads : "default"));
+}
+
+void BM_TexturedEllipsoid(benchmark::State& state) {
+  run(state, ellipsoid(int(state.range(0))), true);
+}
+void BM_TexturedEllipsoidReupload(benchmark::State& state) {
+  run(state, ellipsoid(int(state.range(0))), false);
+}
+
+// Reference: the plainest llvmpipe draw of the same mesh in the same process (one colour, no
+// texture, colour readback only), so fps ratios survive a noisy, shared machine.
+const char* kPlainVs = R"(#version 330 core
+layout(location = 0) in vec3 pos;
+uniform mat4 clip_from_head;
+void main() { gl_Position = clip_from_head * vec4(pos, 1.0); })";
+const char* kPlainFs = R"(#version 330 core
+out vec4 color;
+void main() { color = vec4(0.8, 0.7, 0.6, 1.0); })";
+
+void BM_PlainLlvmpipeReference(benchmark::State& state) {
+  const model::TriMesh mesh = ellipsoid(int(state.range(0)));
+  const capture::CameraModel cam = view_camera();
+  render::gl::Context context;
+  const GLuint prog = render::gl::program(kPlainVs, kPlainFs, "plain");
+  std::vector<float> pos;
+  for (const auto& v : mesh.vertices) pos.insert(pos.end(), {float(v.x()), float(v.y()), float(v.z())});
+  GLuint vao = 0, buf[2] = {0, 0};
+  glGenVertexArrays(1, &vao);
+  glBindVertexArray(vao);
+  glGenBuffers(2, buf);
+  glBindBuffer(GL_ARRAY_BUFFER, buf[0]);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(pos.size() * 4), pos.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 12, nullptr);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[1]);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * 12), mesh.triangles.data(), GL_STATIC_DRAW);
+  render::gl::Framebuffer fb;
+  fb.ensure(cam.width, cam.height, 0);
+  glViewport(0, 0, cam.width, cam.height);
+  const auto clip = render::gl::clip_from_head(cam, 500, 1500);
+  glUseProgram(prog);
+  glUniformMatrix4fv(glGetUniformLocation(prog, "clip_from_head"), 1, GL_FALSE, clip.data());
+  glEnable(GL_DEPTH_TEST);
+  cv::Mat rgba(cam.height, cam.width, CV_8UC4);
+  for (auto _ : state) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDrawElements(GL_TRIANGLES, GLsizei(mesh.triangles.size() * 3), GL_UNSIGNED_INT, nullptr);
+    glReadPixels(0, 0, cam.width, cam.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data);
+  }
+  int covered = 0;
+  for (int i = 0; i < int(rgba.total()); ++i) covered += rgba.data[4 * i] > 100;
+  state.counters["covered_px"] = covered;
+  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  fb.release();
+}
+
+BENCHMARK(BM_PlainLlvmpipeReference)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TexturedEllipsoid)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TexturedEllipsoidReupload)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<char*> args(argv, argv + argc);
+  std::string json = "--benchmark_format=json";  // default; a later flag overrides it
+  args.insert(args.begin() + 1, json.data());
+  int n = int(args.size());
+  benchmark::Initialize(&n, args.data());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
