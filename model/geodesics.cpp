@@ -1,0 +1,210 @@
+#include "model/geodesics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+#include <stdexcept>
+#include <string>
+
+namespace orthoface::model {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct QueueItem {
+  double d;
+  int v;
+  bool operator>(const QueueItem& o) const { return d > o.d; }
+};
+using MinQueue = std::priority_queue<QueueItem, std::vector<QueueItem>, std::greater<>>;
+
+// Compressed vertex -> incident triangle lists.
+struct Incidence {
+  std::vector<int> start, tris;
+};
+
+Incidence incidence(const TriMesh& mesh) {
+  const size_t n = mesh.vertices.size();
+  Incidence inc;
+  inc.start.assign(n + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++inc.start[t[k] + 1];
+  for (size_t i = 0; i < n; ++i) inc.start[i + 1] += inc.start[i];
+  inc.tris.resize(inc.start[n]);
+  std::vector<int> fill(inc.start.begin(), inc.start.end() - 1);
+  for (size_t f = 0; f < mesh.triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) inc.tris[fill[mesh.triangles[f][k]]++] = static_cast<int>(f);
+  return inc;
+}
+
+void check_sources(const TriMesh& mesh, const std::vector<int>& sources, const char* what,
+                   const GeodesicOptions& options) {
+  check_mesh(mesh, what);
+  options.check();
+  if (sources.empty()) throw std::invalid_argument(std::string(what) + ": no source vertex");
+  for (int s : sources)
+    if (s < 0 || s >= static_cast<int>(mesh.vertices.size()))
+      throw std::invalid_argument(std::string(what) + ": source vertex " + std::to_string(s) +
+                                  " out of range [0, " + std::to_string(mesh.vertices.size()) +
+                                  ")");
+}
+
+// Distance at C through the edge AB of triangle ABC, given dA and dB. The known vertices are
+// unfolded into the plane (A at origin, B on +x, C above) and the source they imply is the
+// circle intersection below AB; if the straight ray from it to C crosses AB the distance is
+// exact for a planar patch, otherwise the edge paths bound it.
+double triangle_update(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                       const Eigen::Vector3d& c, double da, double db) {
+  const double ac = (c - a).norm(), bc = (c - b).norm();
+  const double edge_bound = std::min(da + ac, db + bc);
+  const double ab = (b - a).norm();
+  if (ab <= 0.0) return edge_bound;
+  const double cx = (c - a).dot(b - a) / ab;
+  const double cy2 = ac * ac - cx * cx;
+  if (cy2 <= 1e-18 * ac * ac) return edge_bound;  // degenerate triangle
+  const double cy = std::sqrt(cy2);
+  const double sx = (da * da - db * db + ab * ab) / (2.0 * ab);
+  const double sy2 = da * da - sx * sx;
+  if (sy2 < 0.0) return edge_bound;  // |dA - dB| > |AB|: no consistent planar source
+  const double sy = -std::sqrt(sy2);
+  const double t = -sy / (cy - sy);  // where the ray S->C meets y = 0
+  const double x = sx + t * (cx - sx);
+  if (x < 0.0 || x > ab) return edge_bound;
+  return std::min(edge_bound, std::hypot(cx - sx, cy - sy));
+}
+
+}  // namespace
+
+void GeodesicOptions::check() const {
+  if (!(max_distance > 0.0))
+    throw std::invalid_argument("GeodesicOptions: max_distance must be > 0, got " +
+                                std::to_string(max_distance));
+}
+
+std::vector<double> geodesic_distances(const TriMesh& mesh, const std::vector<int>& sources,
+                                       const GeodesicOptions& options) {
+  check_sources(mesh, sources, "geodesic_distances", options);
+  const Incidence inc = incidence(mesh);
+  const size_t n = mesh.vertices.size();
+  std::vector<double> dist(n, kInf);
+  std::vector<char> done(n, 0);
+  MinQueue queue;
+  for (int s : sources) {
+    dist[s] = 0.0;
+    queue.push({0.0, s});
+  }
+  const auto& p = mesh.vertices;
+  while (!queue.empty()) {
+    const QueueItem top = queue.top();
+    queue.pop();
+    if (done[top.v] || top.d > dist[top.v]) continue;
+    if (top.d > options.max_distance) break;
+    done[top.v] = 1;
+    const int v = top.v;
+    for (int k = inc.start[v]; k < inc.start[v + 1]; ++k) {
+      const auto& t = mesh.triangles[inc.tris[k]];
+      const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
+      const int a = t[(i + 1) % 3], b = t[(i + 2) % 3];
+      // Update each unfinished corner from v alone or from v and the other finished corner.
+      for (const auto& [target, other] : {std::pair{a, b}, std::pair{b, a}}) {
+        if (done[target]) continue;
+        double d = done[other] ? triangle_update(p[v], p[other], p[target], dist[v], dist[other])
+                               : dist[v] + (p[target] - p[v]).norm();
+        if (d < dist[target]) {
+          dist[target] = d;
+          queue.push({d, target});
+        }
+      }
+    }
+  }
+  for (size_t i = 0; i < n; ++i)
+    if (!done[i] || dist[i] > options.max_distance) dist[i] = kInf;
+  return dist;
+}
+
+std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh) {
+  check_mesh(mesh, "vertex_neighbors");
+  std::vector<std::vector<int>> nb(mesh.vertices.size());
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      nb[t[k]].push_back(t[(k + 1) % 3]);
+      nb[t[k]].push_back(t[(k + 2) % 3]);
+    }
+  for (auto& row : nb) {
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+  }
+  return nb;
+}
+
+namespace {
+
+std::vector<double> dijkstra(const TriMesh& mesh, const std::vector<std::vector<int>>& nb,
+                             const std::vector<int>& sources, double max_distance) {
+  std::vector<double> dist(mesh.vertices.size(), kInf);
+  MinQueue queue;
+  for (int s : sources) {
+    dist[s] = 0.0;
+    queue.push({0.0, s});
+  }
+  while (!queue.empty()) {
+    const QueueItem top = queue.top();
+    queue.pop();
+    if (top.d > dist[top.v]) continue;
+    if (top.d > max_distance) break;
+    for (int u : nb[top.v]) {
+      const double d = top.d + (mesh.vertices[u] - mesh.vertices[top.v]).norm();
+      if (d < dist[u]) {
+        dist[u] = d;
+        queue.push({d, u});
+      }
+    }
+  }
+  for (double& d : dist)
+    if (d > max_distance) d = kInf;
+  return dist;
+}
+
+void check_matrix_size(const TriMesh& mesh, int max_vertices, const char* what) {
+  check_mesh(mesh, what);
+  if (static_cast<long long>(mesh.vertices.size()) > max_vertices)
+    throw std::invalid_argument(std::string(what) + ": " + std::to_string(mesh.vertices.size()) +
+                                " vertices exceed the dense-matrix limit of " +
+                                std::to_string(max_vertices) +
+                                " (use single-source distances instead)");
+}
+
+}  // namespace
+
+std::vector<double> edge_graph_distances(const TriMesh& mesh, const std::vector<int>& sources,
+                                         const GeodesicOptions& options) {
+  check_sources(mesh, sources, "edge_graph_distances", options);
+  return dijkstra(mesh, vertex_neighbors(mesh), sources, options.max_distance);
+}
+
+DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int max_vertices) {
+  check_matrix_size(mesh, max_vertices, "geodesic_matrix");
+  const int n = static_cast<int>(mesh.vertices.size());
+  DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
+  const auto nb = vertex_neighbors(mesh);
+  for (int s = 0; s < n; ++s) {
+    const std::vector<double> row = method == GeodesicMethod::kEdgeGraph
+                                        ? dijkstra(mesh, nb, {s}, kInf)
+                                        : geodesic_distances(mesh, {s});
+    std::copy(row.begin(), row.end(), m.values.begin() + static_cast<size_t>(s) * n);
+  }
+  return m;
+}
+
+DistanceMatrix euclidean_matrix(const TriMesh& mesh, int max_vertices) {
+  check_matrix_size(mesh, max_vertices, "euclidean_matrix");
+  const int n = static_cast<int>(mesh.vertices.size());
+  DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      m.values[static_cast<size_t>(i) * n + j] =
+          static_cast<float>((mesh.vertices[i] - mesh.vertices[j]).norm());
+  return m;
+}
+
+}  // namespace orthoface::model

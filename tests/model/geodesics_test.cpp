@@ -1,0 +1,169 @@
+#include "model/geodesics.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <limits>
+
+#include "tests/model/analysis_test_meshes.h"
+
+namespace orthoface::model {
+namespace {
+
+using testing::great_circle;
+using testing::icosphere;
+using testing::plane_grid;
+
+TEST(GeodesicDistances, SphereMatchesGreatCircle) {
+  const double r = 100.0;
+  const TriMesh m = icosphere(5, r);  // 10242 vertices
+  const std::vector<double> d = geodesic_distances(m, {0});
+  double sum_rel = 0.0, max_rel = 0.0;
+  int count = 0;
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const double truth = great_circle(m.vertices[0], m.vertices[i], r);
+    if (truth < 5.0) continue;
+    const double rel = std::abs(d[i] - truth) / truth;
+    sum_rel += rel, max_rel = std::max(max_rel, rel), ++count;
+  }
+  EXPECT_LT(sum_rel / count, 0.003);  // measured 0.15 %
+  EXPECT_LT(max_rel, 0.012);          // measured 0.69 %
+  // The antipode is half a great circle away.
+  int far = 0;
+  for (size_t i = 0; i < m.vertices.size(); ++i)
+    if (m.vertices[i].dot(m.vertices[0]) < m.vertices[far].dot(m.vertices[0])) far = int(i);
+  EXPECT_NEAR(d[far], M_PI * r, 0.01 * M_PI * r);
+}
+
+TEST(GeodesicDistances, FastMarchingBeatsEdgeGraphOnSphere) {
+  const TriMesh m = icosphere(4, 50.0);
+  const auto fm = geodesic_distances(m, {3});
+  const auto eg = edge_graph_distances(m, {3});
+  double err_fm = 0.0, err_eg = 0.0;
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const double truth = great_circle(m.vertices[3], m.vertices[i], 50.0);
+    err_fm += std::abs(fm[i] - truth), err_eg += std::abs(eg[i] - truth);
+    EXPECT_LE(fm[i], eg[i] + 1e-9);  // the edge paths are one of the candidates
+  }
+  EXPECT_LT(err_fm * 10.0, err_eg);
+}
+
+TEST(GeodesicDistances, PlaneIsExactEuclidean) {
+  const TriMesh m = plane_grid(30, 2.0);
+  const int src = 15 * 31 + 15;  // centre
+  const auto d = geodesic_distances(m, {src});
+  for (size_t i = 0; i < m.vertices.size(); ++i)
+    EXPECT_NEAR(d[i], (m.vertices[i] - m.vertices[src]).norm(), 1e-9) << "vertex " << i;
+}
+
+TEST(GeodesicDistances, MaxDistanceStopsAndMarksUnreached) {
+  const TriMesh m = plane_grid(20, 1.0);
+  GeodesicOptions o;
+  o.max_distance = 5.0;
+  const auto d = geodesic_distances(m, {0}, o);
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const double e = m.vertices[i].norm();
+    if (e > 5.0 + 1e-9) EXPECT_TRUE(std::isinf(d[i])) << i;
+    if (e < 4.9) EXPECT_NEAR(d[i], e, 1e-9) << i;
+  }
+}
+
+TEST(GeodesicDistances, OtherComponentIsUnreached) {
+  TriMesh m = plane_grid(2, 1.0);
+  const int n = int(m.vertices.size());
+  m.vertices.emplace_back(10, 10, 0), m.vertices.emplace_back(11, 10, 0);
+  m.vertices.emplace_back(10, 11, 0);
+  m.triangles.push_back({n, n + 1, n + 2});
+  const auto d = geodesic_distances(m, {0});
+  EXPECT_TRUE(std::isinf(d[n]));
+  EXPECT_TRUE(std::isinf(edge_graph_distances(m, {0})[n + 1]));
+  EXPECT_DOUBLE_EQ(geodesic_distances(m, {n})[n + 1], 1.0);
+}
+
+TEST(GeodesicDistances, DegenerateTrianglesDoNotBreakIt) {
+  TriMesh m = plane_grid(4, 1.0);
+  m.vertices.push_back(m.vertices[0]);  // a zero-area sliver glued at vertex 0
+  m.triangles.push_back({0, 1, int(m.vertices.size()) - 1});
+  const auto d = geodesic_distances(m, {6});
+  for (double x : d) EXPECT_TRUE(std::isfinite(x));
+  EXPECT_NEAR(d.back(), d[0], 1e-12);
+}
+
+TEST(GeodesicDistances, BadInputThrows) {
+  const TriMesh m = icosphere(1, 1.0);
+  EXPECT_THROW(geodesic_distances(m, {int(m.vertices.size())}), std::invalid_argument);
+  EXPECT_THROW(geodesic_distances(m, {-1}), std::invalid_argument);
+  EXPECT_THROW(geodesic_distances(m, {}), std::invalid_argument);
+  EXPECT_THROW(geodesic_distances(TriMesh{}, {0}), std::invalid_argument);
+  EXPECT_THROW(edge_graph_distances(TriMesh{}, {0}), std::invalid_argument);
+  GeodesicOptions o;
+  o.max_distance = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(geodesic_distances(m, {0}, o), std::invalid_argument);
+  TriMesh nan = m;
+  nan.vertices[2].x() = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(geodesic_distances(nan, {0}), std::invalid_argument);
+}
+
+TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
+  const TriMesh m = icosphere(2, 10.0);  // 162 vertices
+  const DistanceMatrix g = geodesic_matrix(m, GeodesicMethod::kFastMarching);
+  const DistanceMatrix e = euclidean_matrix(m);
+  const DistanceMatrix eg = geodesic_matrix(m, GeodesicMethod::kEdgeGraph);
+  ASSERT_EQ(g.n, 162);
+  const auto row7 = geodesic_distances(m, {7});
+  for (int j = 0; j < g.n; ++j) {
+    EXPECT_NEAR(g.at(7, j), row7[j], 1e-4);
+    EXPECT_NEAR(g.at(7, j), g.at(j, 7), 0.02 * g.at(7, j) + 1e-3);  // 162 vertices: ~1 %
+    EXPECT_LE(e.at(7, j), g.at(7, j) + 1e-4);  // chord <= arc
+    EXPECT_GE(eg.at(7, j), g.at(7, j) - 1e-3);
+  }
+  EXPECT_THROW(geodesic_matrix(m, GeodesicMethod::kEdgeGraph, 100), std::invalid_argument);
+  EXPECT_THROW(euclidean_matrix(m, 100), std::invalid_argument);
+}
+
+TEST(VertexNeighbors, IcosahedronHasFiveEach) {
+  const auto nb = vertex_neighbors(icosphere(0, 1.0));
+  ASSERT_EQ(nb.size(), 12u);
+  for (const auto& row : nb) EXPECT_EQ(row.size(), 5u);
+  EXPECT_THROW(vertex_neighbors(TriMesh{}), std::invalid_argument);
+}
+
+TEST(GeodesicPath, SphereGeodesicStaysOnGreatCircle) {
+  const TriMesh m = icosphere(4, 100.0);
+  const auto d = geodesic_distances(m, {0});
+  int target = 0;
+  for (size_t i = 0; i < m.vertices.size(); ++i)
+    if (std::abs(d[i] - 150.0) < std::abs(d[target] - 150.0)) target = int(i);
+  const GeodesicPath path = geodesic_path(m, d, target);
+  ASSERT_GE(path.points.size(), 3u);
+  EXPECT_TRUE(path.reached_source);
+  EXPECT_NEAR((path.points.back() - m.vertices[0]).norm(), 0.0, 1e-9);
+  const Eigen::Vector3d plane_n = m.vertices[0].cross(m.vertices[target]).normalized();
+  double length = 0.0;
+  for (size_t k = 0; k < path.points.size(); ++k) {
+    EXPECT_LT(std::abs(path.points[k].dot(plane_n)), 1.5) << k;  // 100 mm sphere
+    if (k > 0) {
+      length += (path.points[k] - path.points[k - 1]).norm();
+      EXPECT_LE(path.distances[k], path.distances[k - 1] + 1e-9);
+    }
+  }
+  EXPECT_NEAR(length, d[target], 0.01 * d[target]);
+}
+
+TEST(GeodesicPath, DegenerateAndBadInput) {
+  const TriMesh m = icosphere(2, 10.0);
+  const auto d = geodesic_distances(m, {0});
+  const GeodesicPath at_source = geodesic_path(m, d, 0);
+  ASSERT_EQ(at_source.points.size(), 1u);
+  EXPECT_TRUE(at_source.reached_source);
+  EXPECT_THROW(geodesic_path(m, d, -1), std::invalid_argument);
+  EXPECT_THROW(geodesic_path(m, std::vector<double>(3, 0.0), 0), std::invalid_argument);
+  std::vector<double> unreached = d;
+  unreached[5] = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(geodesic_path(m, unreached, 5), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace orthoface::model
