@@ -76,7 +76,7 @@ void BM_PlainLlvmpipeReference(benchmark::State& state) {
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[1]);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * 12), mesh.triangles.data(), GL_STATIC_DRAW);
   render::gl::Framebuffer fb;
-  fb.ensure(cam.width, cam.height, 0);
+  fb.ensure(cam.width, cam.height, {GL_RGBA8});
   glViewport(0, 0, cam.width, cam.height);
   const auto clip = render::gl::clip_from_head(cam, 500, 1500);
   glUseProgram(prog);

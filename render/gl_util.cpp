@@ -73,19 +73,23 @@ GLuint program(const char* vertex_src, const char* fragment_src, const std::stri
   return p;
 }
 
-void Framebuffer::ensure(int w, int h, int float_targets) {
-  if (fbo && w == width && h == height && colors.size() == size_t(1 + float_targets)) return;
+void Framebuffer::ensure(int w, int h, const std::vector<GLenum>& color_formats) {
+  if (fbo && w == width && h == height && formats == color_formats) {
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    return;
+  }
   release();
   width = w;
   height = h;
+  formats = color_formats;
   glGenFramebuffers(1, &fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  colors.assign(1 + float_targets, 0);
+  colors.assign(formats.size(), 0);
   glGenRenderbuffers(GLsizei(colors.size()), colors.data());
   std::vector<GLenum> draw;
   for (size_t i = 0; i < colors.size(); ++i) {
     glBindRenderbuffer(GL_RENDERBUFFER, colors[i]);
-    glRenderbufferStorage(GL_RENDERBUFFER, i == 0 ? GL_RGBA8 : GL_R32F, w, h);
+    glRenderbufferStorage(GL_RENDERBUFFER, formats[i], w, h);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, GLenum(GL_COLOR_ATTACHMENT0 + i), GL_RENDERBUFFER,
                               colors[i]);
     draw.push_back(GLenum(GL_COLOR_ATTACHMENT0 + i));
@@ -107,6 +111,7 @@ void Framebuffer::release() {
   if (depth) glDeleteRenderbuffers(1, &depth);
   if (fbo) glDeleteFramebuffers(1, &fbo);
   colors.clear();
+  formats.clear();
   fbo = depth = 0;
   width = height = 0;
 }
@@ -193,6 +198,68 @@ GLuint upload_texture(const cv::Mat& image, GLuint tex) {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   return tex;
+}
+
+void GpuMesh::release() {
+  if (tex) glDeleteTextures(1, &tex);
+  if (ebo) glDeleteBuffers(1, &ebo);
+  if (vbo) glDeleteBuffers(1, &vbo);
+  if (vao) glDeleteVertexArrays(1, &vao);
+  tex = ebo = vbo = vao = 0;
+}
+
+GpuMesh upload_mesh(const model::TriMesh& m, bool with_texture) {
+  GpuMesh g;
+  const bool textured = with_texture && !m.texture.empty() && !m.uvs.empty();
+  g.mode = textured ? 2 : (!m.colors.empty() ? 1 : 0);
+  const auto normals = vertex_normals(m);
+  std::vector<float> data(m.vertices.size() * 11, 0.0f);
+  g.lo = g.hi = m.vertices[0];
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    float* d = &data[i * 11];
+    for (int k = 0; k < 3; ++k) {
+      d[k] = float(m.vertices[i][k]);
+      d[3 + k] = float(normals[i][k]);
+      d[6 + k] = m.colors.empty() ? 0.8f : float(m.colors[i][k]);
+    }
+    if (!m.uvs.empty()) d[9] = float(m.uvs[i].x()), d[10] = float(m.uvs[i].y());
+    g.lo = g.lo.cwiseMin(m.vertices[i]);
+    g.hi = g.hi.cwiseMax(m.vertices[i]);
+  }
+  glGenVertexArrays(1, &g.vao);
+  glBindVertexArray(g.vao);
+  glGenBuffers(1, &g.vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
+               GL_STATIC_DRAW);
+  const int offsets[4] = {0, 3, 6, 9}, sizes[4] = {3, 3, 3, 2};
+  for (int a = 0; a < 4; ++a) {
+    glEnableVertexAttribArray(a);
+    glVertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, 11 * sizeof(float),
+                          reinterpret_cast<void*>(offsets[a] * sizeof(float)));
+  }
+  glGenBuffers(1, &g.ebo);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.triangles.size() * 3 * sizeof(int)),
+               m.triangles.data(), GL_STATIC_DRAW);
+  g.count = GLsizei(m.triangles.size() * 3);
+  glBindVertexArray(0);
+  if (textured) g.tex = upload_texture(m.texture, 0);
+  return g;
+}
+
+RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective) {
+  RenderResult r;
+  cv::Mat bgra(h, w, CV_8UC4);
+  r.depth_mm.create(h, w, CV_32F);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
+  glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, r.depth_mm.data);
+  cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
+  r.mask = r.depth_mm < 1.0f;
+  window_depth_to_zcam(r.depth_mm, nf[0], nf[1], perspective);
+  return r;
 }
 
 std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh) {

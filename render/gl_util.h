@@ -39,14 +39,31 @@ class Context {
 // Compiles and links a GLSL program; throws std::runtime_error with the info log.
 GLuint program(const char* vertex_src, const char* fragment_src, const std::string& name);
 
-// An FBO with one RGBA8 colour target, optional R32F targets and a 32F depth buffer.
+// An FBO with colour renderbuffers of the given internal formats (GL_RGBA8, GL_R32F, ...)
+// and a 32F depth buffer; all colour targets are enabled for drawing.
 struct Framebuffer {
   GLuint fbo = 0, depth = 0;
-  std::vector<GLuint> colors;  // colors[0] RGBA8, then R32F
+  std::vector<GLuint> colors;
+  std::vector<GLenum> formats;
   int width = 0, height = 0;
-  void ensure(int w, int h, int float_targets);  // (re)allocates when the size changes
+  void ensure(int w, int h, const std::vector<GLenum>& color_formats);  // binds; reallocates on change
   void release();
 };
+
+// A mesh in GL buffers. Attributes: 0 position, 1 normal (head frame), 2 colour, 3 uv
+// (11 interleaved floats per vertex). mode: 0 grey, 1 vertex colours, 2 texture (in tex).
+struct GpuMesh {
+  GLuint vao = 0, vbo = 0, ebo = 0, tex = 0;
+  GLsizei count = 0;
+  int mode = 0;
+  Eigen::Vector3d lo, hi;  // bounding box, head frame
+  void release();
+};
+GpuMesh upload_mesh(const model::TriMesh& mesh, bool with_texture);
+
+// Reads colour attachment 0 (as BGR) and the depth buffer (as z_cam mm, +inf where empty, and
+// the mask) of the bound framebuffer, w x h, drawn with near_far() planes `nf`.
+RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective);
 
 // Throws std::invalid_argument (prefixed by `what`) when the camera's size is outside
 // 1..kMaxImageSize or its intrinsics are not positive / finite.

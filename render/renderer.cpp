@@ -104,62 +104,11 @@ MeshKey key_of(const model::TriMesh& m) {
   return k;
 }
 
-struct GpuMesh {
+struct Cached {
   MeshKey key;
-  GLuint vao = 0, vbo = 0, ebo = 0, tex = 0;
-  GLsizei count = 0;
-  int mode = 0;
-  Eigen::Vector3d lo, hi;
+  gl::GpuMesh mesh;
   uint64_t last_used = 0;
-
-  void release() {
-    if (tex) glDeleteTextures(1, &tex);
-    if (ebo) glDeleteBuffers(1, &ebo);
-    if (vbo) glDeleteBuffers(1, &vbo);
-    if (vao) glDeleteVertexArrays(1, &vao);
-    tex = ebo = vbo = vao = 0;
-  }
 };
-
-// Interleaved vertex buffer: position, normal, colour, uv (11 floats per vertex).
-GpuMesh upload(const model::TriMesh& m) {
-  GpuMesh g;
-  g.mode = (!m.texture.empty() && !m.uvs.empty()) ? 2 : (!m.colors.empty() ? 1 : 0);
-  const auto normals = gl::vertex_normals(m);
-  std::vector<float> data(m.vertices.size() * 11, 0.0f);
-  g.lo = g.hi = m.vertices[0];
-  for (size_t i = 0; i < m.vertices.size(); ++i) {
-    float* d = &data[i * 11];
-    for (int k = 0; k < 3; ++k) {
-      d[k] = float(m.vertices[i][k]);
-      d[3 + k] = float(normals[i][k]);
-      d[6 + k] = m.colors.empty() ? 0.8f : float(m.colors[i][k]);
-    }
-    if (!m.uvs.empty()) d[9] = float(m.uvs[i].x()), d[10] = float(m.uvs[i].y());
-    g.lo = g.lo.cwiseMin(m.vertices[i]);
-    g.hi = g.hi.cwiseMax(m.vertices[i]);
-  }
-  glGenVertexArrays(1, &g.vao);
-  glBindVertexArray(g.vao);
-  glGenBuffers(1, &g.vbo);
-  glBindBuffer(GL_ARRAY_BUFFER, g.vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(),
-               GL_STATIC_DRAW);
-  const int offsets[4] = {0, 3, 6, 9}, sizes[4] = {3, 3, 3, 2};
-  for (int a = 0; a < 4; ++a) {
-    glEnableVertexAttribArray(a);
-    glVertexAttribPointer(a, sizes[a], GL_FLOAT, GL_FALSE, 11 * sizeof(float),
-                          reinterpret_cast<void*>(offsets[a] * sizeof(float)));
-  }
-  glGenBuffers(1, &g.ebo);
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, g.ebo);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.triangles.size() * 3 * sizeof(int)),
-               m.triangles.data(), GL_STATIC_DRAW);
-  g.count = GLsizei(m.triangles.size() * 3);
-  glBindVertexArray(0);
-  if (g.mode == 2) g.tex = gl::upload_texture(m.texture, 0);
-  return g;
-}
 
 }  // namespace
 
@@ -167,7 +116,7 @@ struct Renderer::Impl {
   gl::Context context;
   GLuint prog = 0;
   gl::Framebuffer fb;
-  std::vector<GpuMesh> cache;
+  std::vector<Cached> cache;
   uint64_t clock = 0;
 
   Impl() {
@@ -175,31 +124,29 @@ struct Renderer::Impl {
   }
   ~Impl() {
     context.make_current();
-    for (auto& g : cache) g.release();
+    for (auto& c : cache) c.mesh.release();
     fb.release();
     glDeleteProgram(prog);
   }
 
   // The cached upload of `m`, uploading (after check_mesh) on a miss.
-  GpuMesh& mesh(const model::TriMesh& m) {
+  const gl::GpuMesh& mesh(const model::TriMesh& m) {
     const MeshKey key = key_of(m);
-    for (auto& g : cache)
-      if (g.key == key) return g.last_used = ++clock, g;
+    for (auto& c : cache)
+      if (c.key == key) return c.last_used = ++clock, c.mesh;
     model::check_mesh(m, "render: mesh");
     if (int(cache.size()) >= kCacheSize) {
       auto oldest = cache.begin();
       for (auto it = cache.begin(); it != cache.end(); ++it)
         if (it->last_used < oldest->last_used) oldest = it;
-      oldest->release();
+      oldest->mesh.release();
       cache.erase(oldest);
     }
-    cache.push_back(upload(m));
-    cache.back().key = key;
-    cache.back().last_used = ++clock;
-    return cache.back();
+    cache.push_back({key, gl::upload_mesh(m, true), ++clock});
+    return cache.back().mesh;
   }
 
-  void uniforms(const GpuMesh& g, const capture::CameraModel& camera,
+  void uniforms(const gl::GpuMesh& g, const capture::CameraModel& camera,
                 const RenderOptions& o) {
     const auto nf = gl::near_far(camera, g.lo, g.hi);
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
@@ -216,7 +163,7 @@ struct Renderer::Impl {
                 float(o.wireframe_color[1] / 255), float(o.wireframe_color[0] / 255));
   }
 
-  void draw(const GpuMesh& g, const RenderOptions& o) {
+  void draw(const gl::GpuMesh& g, const RenderOptions& o) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -244,19 +191,6 @@ struct Renderer::Impl {
     glBindVertexArray(0);
   }
 
-  RenderResult read(int w, int h, const std::array<double, 2>& nf, bool perspective) {
-    RenderResult r;
-    cv::Mat bgra(h, w, CV_8UC4);
-    r.depth_mm.create(h, w, CV_32F);
-    glPixelStorei(GL_PACK_ALIGNMENT, 1);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
-    glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, r.depth_mm.data);
-    cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
-    r.mask = r.depth_mm < 1.0f;
-    gl::window_depth_to_zcam(r.depth_mm, nf[0], nf[1], perspective);
-    return r;
-  }
 };
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
@@ -268,8 +202,8 @@ RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraM
     throw std::invalid_argument("render: mesh is empty");
   gl::check_camera(camera, "render: camera");
   impl_->context.make_current();
-  const GpuMesh& g = impl_->mesh(mesh);
-  impl_->fb.ensure(camera.width, camera.height, 0);
+  const gl::GpuMesh& g = impl_->mesh(mesh);
+  impl_->fb.ensure(camera.width, camera.height, {GL_RGBA8});
   glBindFramebuffer(GL_FRAMEBUFFER, impl_->fb.fbo);
   glViewport(0, 0, camera.width, camera.height);
   const float bg[4] = {float(options.background[2] / 255), float(options.background[1] / 255),
@@ -282,13 +216,13 @@ RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraM
     impl_->uniforms(g, camera, options);
     impl_->draw(g, options);
   }
-  return impl_->read(camera.width, camera.height, nf,
-                     camera.projection == capture::Projection::Perspective);
+  return gl::read_result(camera.width, camera.height, nf,
+                         camera.projection == capture::Projection::Perspective);
 }
 
 void Renderer::clear_cache() {
   impl_->context.make_current();
-  for (auto& g : impl_->cache) g.release();
+  for (auto& c : impl_->cache) c.mesh.release();
   impl_->cache.clear();
 }
 
