@@ -17,6 +17,7 @@ struct Entry {
 
 constexpr Entry kCommands[] = {
     {"version", orthoface::app::run_version, "print the version and the libraries in use"},
+    {"simulate", orthoface::app::run_simulate, "render a simulated head through the two-camera rig, with its truth"},
 };
 
 void print_usage() {

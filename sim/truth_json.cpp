@@ -163,6 +163,36 @@ json landmark_json(const LandmarkTruth& t) {
           {"visible_side", t.visible_side}};
 }
 
+// json::dump(2) with every array of plain numbers on one line, so the file reads as a table.
+std::string readable_dump(const json& j) {
+  const std::string in = j.dump(2);
+  std::string out;
+  out.reserve(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    const size_t close = in[i] == '[' ? in.find(']', i) : std::string::npos;
+    if (close != std::string::npos &&
+        in.find_first_of("[{\"", i + 1) > close) {  // no nested array, object or string inside
+      out += '[';
+      bool space = false;
+      for (size_t k = i + 1; k < close; ++k) {
+        const char c = in[k];
+        if (c == ' ' || c == '\n') {
+          space = true;
+          continue;
+        }
+        if (space && out.back() == ',') out += ' ';
+        space = false;
+        out += c;
+      }
+      out += ']';
+      i = close;
+      continue;
+    }
+    out += in[i];
+  }
+  return out;
+}
+
 // A point behind a perspective camera projects to NaN, which JSON cannot hold: written as null.
 json px_json(const Eigen::Vector2d& p) { return p.allFinite() ? to_json(p) : json(nullptr); }
 
@@ -198,7 +228,7 @@ void write_truth_json(const Truth& truth, const std::string& path) {
   {
     std::ofstream f(tmp);
     if (!f) throw std::runtime_error("cannot write truth file " + path);
-    f << j.dump(2) << "\n";
+    f << readable_dump(j) << "\n";
     if (!f) throw std::runtime_error("cannot write truth file " + path + " (disk full?)");
   }
   std::error_code ec;
