@@ -6,5 +6,6 @@ namespace orthoface::app {
 // Each returns 0 on success; errors are thrown and reported by main() as one "error:" line.
 int run_version(int argc, char** argv);
 int run_simulate(int argc, char** argv);
+int run_demo(int argc, char** argv);
 
 }  // namespace orthoface::app

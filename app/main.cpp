@@ -17,6 +17,7 @@ struct Entry {
 
 constexpr Entry kCommands[] = {
     {"version", orthoface::app::run_version, "print the version and the libraries in use"},
+    {"demo", orthoface::app::run_demo, "simulated heads through the rig, true views, contact sheet"},
     {"simulate", orthoface::app::run_simulate, "render a simulated head through the two-camera rig, with its truth"},
 };
 
