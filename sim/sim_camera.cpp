@@ -1,0 +1,156 @@
+#include "sim/sim_camera.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <random>
+#include <regex>
+#include <stdexcept>
+#include <thread>
+#include <tuple>
+
+#include "sim/head.h"
+#include "sim/rig.h"
+
+namespace orthoface::sim {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The rendered loop of one subject at one size: both views of each pose. Shared by the front
+// and side cameras of a subject so the pair is rendered once.
+struct Loop {
+  std::vector<cv::Mat> front, side;
+};
+
+std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, int height) {
+  static std::mutex m;
+  static std::map<std::tuple<int, int, int, int, double>, std::weak_ptr<const Loop>> cache;
+  std::lock_guard<std::mutex> lock(m);
+  const auto key = std::make_tuple(o.subject, width, height, o.cycle_frames, o.motion_deg);
+  if (auto hit = cache[key].lock()) return hit;
+  const Head head = make_head(o.subject);
+  RigOptions rig;
+  rig.width = width;
+  rig.height = height;
+  rig.px_per_mm *= width / 640.0;
+  render::Renderer renderer;
+  auto loop = std::make_shared<Loop>();
+  for (int k = 0; k < o.cycle_frames; ++k) {
+    // A head turn of theta equals both cameras turning about their image y axes (level rig).
+    const double theta = o.motion_deg * std::sin(2 * kPi * k / o.cycle_frames);
+    rig.front_error.yaw_deg = rig.side_error.yaw_deg = theta;
+    const Capture c = simulate_capture(head, rig, renderer);
+    loop->front.push_back(c.front);
+    loop->side.push_back(c.side);
+  }
+  cache[key] = loop;
+  return loop;
+}
+
+class SimCamera : public capture::Camera {
+ public:
+  SimCamera(std::string id, const SimCameraOptions& o) : id_(std::move(id)), o_(o), rng_(o.subject) {
+    if (o_.phase_s < 0) o_.phase_s = o_.side ? 0.007 : 0.0;
+  }
+  std::string name() const override { return id_; }
+  std::vector<capture::CameraFormat> formats() const override {
+    std::vector<capture::CameraFormat> f;
+    for (auto [w, h] : {std::pair{320, 240}, {640, 480}, {1280, 720}})
+      for (double fps : {30.0, 15.0}) f.push_back({"BGR3", w, h, fps});
+    return f;
+  }
+  void start(const capture::CameraFormat& format) override {
+    bool offered = false;
+    for (const auto& f : formats())
+      offered |= f.fourcc == format.fourcc && f.width == format.width &&
+                 f.height == format.height && (format.fps <= 0 || f.fps == format.fps);
+    if (!offered)
+      throw std::runtime_error("camera " + id_ + ": does not offer " + format.fourcc + " " +
+                               std::to_string(format.width) + "x" +
+                               std::to_string(format.height));
+    loop_ = render_loop(o_, format.width, format.height);
+    period_ = 1.0 / (format.fps > 0 ? format.fps : 30.0);
+    k_ = static_cast<std::uint64_t>(std::ceil((capture::monotonic_now_s() - o_.phase_s) / period_));
+  }
+  capture::FrameResult next_frame(double timeout_s) override {
+    if (!loop_) throw std::runtime_error("camera " + id_ + ": next_frame before start");
+    std::uniform_real_distribution<double> jitter(-o_.jitter_s, o_.jitter_s);
+    const double now = capture::monotonic_now_s();
+    if (k_ * period_ + o_.phase_s < now - 2 * period_)  // consumer was away: frames lost
+      k_ = static_cast<std::uint64_t>(std::ceil((now - o_.phase_s) / period_));
+    const double t = k_ * period_ + o_.phase_s + jitter(rng_);
+    if (t - now > timeout_s) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(timeout_s));
+      return {capture::FrameStatus::Timeout, {}, "camera " + id_ + ": no frame in time"};
+    }
+    if (t > now) std::this_thread::sleep_for(std::chrono::duration<double>(t - now));
+    const auto& images = o_.side ? loop_->side : loop_->front;
+    capture::Frame f;
+    f.image = images[k_ % images.size()].clone();
+    f.timestamp_s = t;
+    f.sequence = k_++;
+    return {capture::FrameStatus::Ok, std::move(f), ""};
+  }
+  void stop() override { loop_.reset(); }
+
+ private:
+  std::string id_;
+  SimCameraOptions o_;
+  std::mt19937_64 rng_;
+  std::shared_ptr<const Loop> loop_;
+  double period_ = 1.0 / 30;
+  std::uint64_t k_ = 0;
+};
+
+}  // namespace
+
+void SimCameraOptions::check() const {
+  if (subject < 0) throw std::invalid_argument("SimCameraOptions: subject must be >= 0");
+  if (cycle_frames < 1 || cycle_frames > 240)
+    throw std::invalid_argument("SimCameraOptions: cycle_frames must be in 1..240");
+  if (!(std::abs(motion_deg) <= 30))
+    throw std::invalid_argument("SimCameraOptions: motion_deg must be in [-30, 30]");
+  if (!(jitter_s >= 0 && jitter_s < 0.01))
+    throw std::invalid_argument("SimCameraOptions: jitter_s must be in [0, 0.01)");
+  if (!std::isfinite(phase_s)) throw std::invalid_argument("SimCameraOptions: phase_s not finite");
+}
+
+std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options) {
+  options.check();
+  const std::string id = "sim:" + std::to_string(options.subject) +
+                         (options.side ? "/side" : "/front");
+  return std::make_unique<SimCamera>(id, options);
+}
+
+std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
+  static const std::regex re(R"(sim:(\d{1,6})/(front|side))");
+  std::smatch m;
+  if (!std::regex_match(id, m, re))
+    throw std::runtime_error("camera " + id +
+                             ": expected sim:N/front or sim:N/side (N = subject number)");
+  SimCameraOptions o;
+  o.subject = std::stoi(m[1]);
+  o.side = m[2] == "side";
+  auto cam = open_sim_camera(o);
+  return cam;
+}
+
+void register_sim_cameras() {
+  capture::register_camera_backend(
+      "sim:", {[](const std::string& id) { return open_sim_camera(id); },
+               [] {
+                 std::vector<capture::DeviceInfo> out;
+                 for (const char* view : {"front", "side"}) {
+                   auto cam = open_sim_camera(std::string("sim:0/") + view);
+                   out.push_back({cam->name(),
+                                  std::string("simulated rig, subject N (any), ") + view +
+                                      " camera",
+                                  cam->formats()});
+                 }
+                 return out;
+               }});
+}
+
+}  // namespace orthoface::sim
