@@ -1,0 +1,113 @@
+#include "vision/contour_chain.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::vision {
+
+RowExtent row_extent(const cv::Mat& mask) {
+  if (mask.empty() || mask.type() != CV_8U)
+    throw std::invalid_argument("row_extent: expected a CV_8U mask");
+  RowExtent e;
+  e.left.assign(mask.rows, -1);
+  e.right.assign(mask.rows, -1);
+  for (int r = 0; r < mask.rows; ++r) {
+    const uchar* p = mask.ptr<uchar>(r);
+    int c = 0;
+    while (c < mask.cols && !p[c]) ++c;
+    if (c == mask.cols) continue;
+    int d = mask.cols - 1;
+    while (d > c && !p[d]) --d;
+    e.left[r] = c;
+    e.right[r] = d;
+    if (e.top < 0) e.top = r;
+    e.bottom = r;
+  }
+  return e;
+}
+
+std::vector<cv::Point2d> front_chain(const cv::Mat& mask, int stop_row) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  if (contours.empty()) return {};
+  const auto& c = *std::max_element(contours.begin(), contours.end(),
+                                    [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  const int n = int(c.size());
+  if (n < 10) return {};
+  // Top-most point; among equals the left-most, so the walk starts at the crown's front.
+  int top = 0;
+  for (int i = 1; i < n; ++i)
+    if (c[i].y < c[top].y || (c[i].y == c[top].y && c[i].x < c[top].x)) top = i;
+  // Walk the direction that heads left first.
+  int dir = 1;
+  {
+    const int k = std::min(20, n / 4);
+    const int xa = c[(top + k) % n].x, xb = c[(top - k + n) % n].x;
+    dir = xa <= xb ? 1 : -1;
+  }
+  std::vector<cv::Point2d> chain;
+  for (int s = 0; s < n; ++s) {
+    const cv::Point& p = c[((top + dir * s) % n + n) % n];
+    chain.emplace_back(p.x, p.y);
+    if (p.y >= stop_row) break;
+  }
+  return chain;
+}
+
+cv::Point2d side_protrusions(const RowExtent& e, int r0, int r1) {
+  r0 = std::max(r0, 0);
+  r1 = std::min<int>(r1, int(e.left.size()));
+  double peak[2] = {0, 0};
+  for (int side = 0; side < 2; ++side) {
+    // Outward coordinate per row: left side outward = -x, right side outward = +x.
+    std::vector<double> ys, vs;
+    for (int r = r0; r < r1; ++r) {
+      if (e.left[r] < 0) continue;
+      ys.push_back(r);
+      vs.push_back(side == 0 ? -e.left[r] : e.right[r]);
+    }
+    if (ys.size() < 8) continue;
+    // Quadratic least-squares fit; the peak is the largest outward residual.
+    cv::Mat A(int(ys.size()), 3, CV_64F), b(int(ys.size()), 1, CV_64F), x;
+    const double ym = (r0 + r1) / 2.0, ys_scale = std::max(1.0, (r1 - r0) / 2.0);
+    for (size_t i = 0; i < ys.size(); ++i) {
+      const double u = (ys[i] - ym) / ys_scale;
+      A.at<double>(int(i), 0) = 1;
+      A.at<double>(int(i), 1) = u;
+      A.at<double>(int(i), 2) = u * u;
+      b.at<double>(int(i)) = vs[i];
+    }
+    cv::solve(A, b, x, cv::DECOMP_SVD);
+    for (size_t i = 0; i < ys.size(); ++i) {
+      const double u = (ys[i] - ym) / ys_scale;
+      const double fitv = x.at<double>(0) + x.at<double>(1) * u + x.at<double>(2) * u * u;
+      peak[side] = std::max(peak[side], vs[i] - fitv);
+    }
+  }
+  return {peak[0], peak[1]};
+}
+
+std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& p, double step) {
+  if (!(step > 0)) throw std::invalid_argument("resample: step must be > 0");
+  if (p.size() < 2) return p;
+  std::vector<cv::Point2d> out{p.front()};
+  double carry = 0;
+  for (size_t i = 1; i < p.size(); ++i) {
+    const cv::Point2d d = p[i] - p[i - 1];
+    const double len = std::hypot(d.x, d.y);
+    double s = step - carry;
+    while (s <= len) {
+      out.push_back(p[i - 1] + d * (s / len));
+      s += step;
+    }
+    carry = len - (s - step);
+  }
+  if (std::hypot(out.back().x - p.back().x, out.back().y - p.back().y) > 1e-6)
+    out.push_back(p.back());
+  return out;
+}
+
+}  // namespace orthoface::vision

@@ -1,0 +1,30 @@
+#pragma once
+
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+namespace orthoface::vision {
+
+// Per-row extremes of a binary mask (CV_8U, non-zero = inside): left[r] / right[r] are the
+// first / last inside column of row r, or -1 when the row is empty.
+struct RowExtent {
+  std::vector<int> left, right;
+  int top = -1, bottom = -1;  // first / last non-empty row, -1 when the mask is empty
+};
+RowExtent row_extent(const cv::Mat& mask);
+
+// The outer contour of the mask's largest blob, walked from its top-most point toward the
+// image left (the front of a profile that looks left) until it reaches `stop_row`.
+// Points are pixel centres (index coordinates). Empty when the mask is empty.
+std::vector<cv::Point2d> front_chain(const cv::Mat& mask, int stop_row);
+
+// How strongly the silhouette's left and right sides stick out of a smooth curve over the
+// rows [r0, r1): returns (peak of left side, peak of right side) in pixels. A profile's nose
+// makes one side's peak large; a frontal face gives two small, similar peaks.
+cv::Point2d side_protrusions(const RowExtent& extent, int r0, int r1);
+
+// Polyline resampled at equal arc-length steps of `step_px` (> 0).
+std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& polyline, double step_px);
+
+}  // namespace orthoface::vision

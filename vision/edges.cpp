@@ -1,0 +1,75 @@
+#include "vision/edges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::vision {
+
+void EdgeOptions::check() const {
+  if (!(blur_sigma_px >= 0.0 && blur_sigma_px <= 20.0))
+    throw std::invalid_argument("EdgeOptions: blur_sigma_px must be in [0, 20]");
+  if (!(threshold_fraction > 0.0 && threshold_fraction < 1.0))
+    throw std::invalid_argument("EdgeOptions: threshold_fraction must be in (0, 1)");
+}
+
+namespace {
+
+// 99th percentile of a non-negative CV_32F image, from a 256-bin histogram up to its max.
+double high_percentile(const cv::Mat& m) {
+  double hi = 0;
+  cv::minMaxLoc(m, nullptr, &hi);
+  if (hi <= 0) return 0;
+  std::vector<int> hist(256, 0);
+  const double s = 255.0 / hi;
+  for (int r = 0; r < m.rows; r += 2) {
+    const float* p = m.ptr<float>(r);
+    for (int c = 0; c < m.cols; c += 2) ++hist[std::min(255, int(p[c] * s))];
+  }
+  long total = 0;
+  for (int h : hist) total += h;
+  long acc = 0;
+  for (int b = 255; b >= 0; --b) {
+    acc += hist[b];
+    if (acc >= total / 100) return (b + 0.5) / s;
+  }
+  return hi;
+}
+
+}  // namespace
+
+EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options) {
+  options.check();
+  if (image.empty()) throw std::invalid_argument("edge_image: empty image");
+  if (image.channels() != 1)
+    throw std::invalid_argument("edge_image: expected one channel, got " +
+                                std::to_string(image.channels()));
+  cv::Mat f;
+  image.convertTo(f, CV_32F);
+  if (options.blur_sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(), options.blur_sigma_px);
+  EdgeImage e;
+  // Sobel 3x3 scaled by 1/8 so the gradient is in intensity units per pixel.
+  cv::Sobel(f, e.gx, CV_32F, 1, 0, 3, 0.125);
+  cv::Sobel(f, e.gy, CV_32F, 0, 1, 3, 0.125);
+  cv::magnitude(e.gx, e.gy, e.magnitude);
+  e.threshold = options.threshold_fraction * high_percentile(e.magnitude);
+  cv::compare(e.magnitude, e.threshold, e.edges, cv::CMP_GT);
+  return e;
+}
+
+float sample(const cv::Mat& m, double x, double y) {
+  x = std::clamp(x, 0.0, double(m.cols - 1));
+  y = std::clamp(y, 0.0, double(m.rows - 1));
+  const int x0 = std::min(int(x), m.cols - 2 < 0 ? 0 : m.cols - 2);
+  const int y0 = std::min(int(y), m.rows - 2 < 0 ? 0 : m.rows - 2);
+  const int x1 = std::min(x0 + 1, m.cols - 1), y1 = std::min(y0 + 1, m.rows - 1);
+  const float ax = float(x - x0), ay = float(y - y0);
+  const float* r0 = m.ptr<float>(y0);
+  const float* r1 = m.ptr<float>(y1);
+  return (1 - ay) * ((1 - ax) * r0[x0] + ax * r0[x1]) + ay * ((1 - ax) * r1[x0] + ax * r1[x1]);
+}
+
+}  // namespace orthoface::vision

@@ -1,0 +1,271 @@
+#include "vision/feature_filters.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "vision/landmarks.h"
+
+namespace orthoface::vision {
+
+namespace {
+
+cv::Rect clip(const cv::Mat& m, double x0, double y0, double x1, double y1) {
+  cv::Rect r(cv::Point(int(std::floor(std::min(x0, x1))), int(std::floor(std::min(y0, y1)))),
+             cv::Point(int(std::ceil(std::max(x0, x1))) + 1, int(std::ceil(std::max(y0, y1))) + 1));
+  return r & cv::Rect(0, 0, m.cols, m.rows);
+}
+
+Feature2d make(cv::Point2d p, double conf, const std::string& method) {
+  Feature2d f;
+  f.px = p;
+  f.confidence = std::clamp(conf, 0.0, 1.0);
+  f.method = method;
+  return f;
+}
+
+// Binary map of pixels inside `roi` whose Lab colour is farther than `tau` from the skin.
+cv::Mat non_skin(const FilterContext& c, const cv::Rect& roi, double tau) {
+  cv::Mat m(roi.size(), CV_8U);
+  for (int r = 0; r < roi.height; ++r) {
+    const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(roi.y + r) + roi.x;
+    uchar* o = m.ptr<uchar>(r);
+    for (int x = 0; x < roi.width; ++x) {
+      const double d = cv::norm(cv::Vec3f(p[x][0], p[x][1], p[x][2]) - c.skin);
+      o[x] = d > tau ? 255 : 0;
+    }
+  }
+  return m;
+}
+
+// Component of `m` containing `seed` (ROI coordinates); its pixels' bounding extremes.
+struct Blob {
+  bool ok = false;
+  cv::Point2d left, right;  // leftmost / rightmost pixel (mean row at that column)
+  int area = 0;
+};
+Blob blob_at(const cv::Mat& m, cv::Point seed) {
+  Blob b;
+  if (!cv::Rect(0, 0, m.cols, m.rows).contains(seed) || !m.at<uchar>(seed)) return b;
+  cv::Mat labels;
+  cv::connectedComponents(m, labels, 8, CV_32S);
+  const int id = labels.at<int>(seed);
+  int xmin = m.cols, xmax = -1;
+  for (int r = 0; r < m.rows; ++r)
+    for (int c = 0; c < m.cols; ++c)
+      if (labels.at<int>(r, c) == id) xmin = std::min(xmin, c), xmax = std::max(xmax, c), ++b.area;
+  double yl = 0, yr = 0;
+  int nl = 0, nr = 0;
+  for (int r = 0; r < m.rows; ++r) {
+    if (labels.at<int>(r, xmin) == id) yl += r, ++nl;
+    if (labels.at<int>(r, xmax) == id) yr += r, ++nr;
+  }
+  b.ok = true;
+  b.left = {xmin - 0.5, yl / nl};
+  b.right = {xmax + 0.5, yr / nr};
+  return b;
+}
+
+// Darkest point of the blurred grey inside roi (image coordinates) and its contrast to the median.
+cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, double* contrast) {
+  cv::Mat g;
+  cv::GaussianBlur(c.grey(roi), g, cv::Size(), sigma);
+  double lo = 0;
+  cv::Point at;
+  cv::minMaxLoc(g, &lo, nullptr, &at);
+  std::vector<uchar> v(g.begin<uchar>(), g.end<uchar>());
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  *contrast = v[v.size() / 2] - lo;
+  return at + roi.tl();
+}
+
+}  // namespace
+
+FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W) {
+  FilterContext c;
+  c.bgr = bgr;
+  cv::cvtColor(bgr, c.grey, cv::COLOR_BGR2GRAY);
+  cv::cvtColor(bgr, c.lab, cv::COLOR_BGR2Lab);
+  const double h = std::max(3.0, 0.05 * W);
+  const cv::Rect roi = clip(bgr, at.x - 2.5 * h, at.y - h, at.x - 1.0 * h, at.y + h) |
+                       clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h);
+  if (roi.area() > 0) {
+    const cv::Scalar m = cv::mean(c.lab(roi));
+    c.skin = cv::Vec3f(float(m[0]), float(m[1]), float(m[2]));
+  }
+  return c;
+}
+
+EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double H, bool il) {
+  EyeFound e;
+  const double s = il ? -1 : 1;
+  const cv::Rect win = clip(c.grey, x0 + s * 0.07 * W, rn - 0.03 * H, x0 + s * 0.42 * W, rn + 0.09 * H);
+  if (win.area() < 16) return e;
+  double contrast = 0;
+  const cv::Point iris = darkest(c, win, std::max(1.0, 0.012 * W), &contrast);
+  const cv::Rect band = clip(c.grey, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
+  cv::Mat m = non_skin(c, band, 22.0);
+  cv::morphologyEx(m, m, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  const Blob b = blob_at(m, iris - band.tl());
+  e.centre = cv::Point2d(iris);
+  e.confidence = std::clamp(contrast / 60.0, 0.0, 1.0);
+  if (!b.ok || b.right.x - b.left.x < 0.06 * W || b.right.x - b.left.x > 0.4 * W) {
+    e.ok = contrast > 25;
+    e.corner_image_left = e.centre - cv::Point2d(0.1 * W, 0);
+    e.corner_image_right = e.centre + cv::Point2d(0.1 * W, 0);
+    e.confidence *= 0.4;
+    return e;
+  }
+  e.ok = contrast > 15;
+  e.corner_image_left = b.left + cv::Point2d(band.tl());
+  e.corner_image_right = b.right + cv::Point2d(band.tl());
+  // The iris centre: centre of the dark blob, between the corners' rows.
+  e.centre.y = 0.5 * e.centre.y + 0.25 * (e.corner_image_left.y + e.corner_image_right.y);
+  return e;
+}
+
+MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_ll, double W, double H) {
+  MouthFound mo;
+  const cv::Rect win = clip(c.grey, x0 - 0.32 * W, r_lu - 0.04 * H, x0 + 0.32 * W, r_ll + 0.04 * H);
+  if (win.area() < 16) return mo;
+  cv::Mat m(win.size(), CV_8U);
+  for (int r = 0; r < win.height; ++r) {
+    const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(win.y + r) + win.x;
+    for (int x = 0; x < win.width; ++x)
+      m.at<uchar>(r, x) = (p[x][1] - c.skin[1] > 9 || p[x][0] < c.skin[0] - 45) ? 255 : 0;
+  }
+  cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  const cv::Point seed(int(x0) - win.x, int((r_lu + r_ll) / 2) - win.y);
+  Blob b = blob_at(m, seed);
+  if (!b.ok) {  // seed missed the lips: take the component nearest the seed
+    std::vector<cv::Point> nz;
+    cv::findNonZero(m, nz);
+    if (nz.empty()) return mo;
+    const auto best = std::min_element(nz.begin(), nz.end(), [&](cv::Point a, cv::Point d) {
+      return cv::norm(a - seed) < cv::norm(d - seed);
+    });
+    b = blob_at(m, *best);
+  }
+  const double width = b.right.x - b.left.x;
+  if (!b.ok || width < 0.15 * W) return mo;
+  mo.ok = true;
+  mo.corner_image_left = b.left + cv::Point2d(win.tl());
+  mo.corner_image_right = b.right + cv::Point2d(win.tl());
+  mo.confidence = width < 0.6 * W ? 0.8 : 0.3;
+  return mo;
+}
+
+NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_sub, double W, double H) {
+  NoseFound n;
+  const cv::Rect win = clip(c.grey, x0 - 0.15 * W, r_tip, x0 + 0.15 * W, r_sub + 0.03 * H);
+  if (win.area() < 16) return n;
+  cv::Mat g;
+  cv::GaussianBlur(c.grey(win), g, cv::Size(), 1.0);
+  double pos[2] = {0, 0}, val[2] = {1e9, 1e9};
+  double py[2] = {0, 0};
+  for (int r = 0; r < g.rows; ++r)
+    for (int x = 0; x < g.cols; ++x) {
+      const int side = (x + win.x) < x0 ? 0 : 1;
+      if (g.at<uchar>(r, x) < val[side]) val[side] = g.at<uchar>(r, x), pos[side] = x + win.x, py[side] = r + win.y;
+    }
+  const double d0 = x0 - pos[0], d1 = pos[1] - x0;
+  const bool found = val[0] < c.skin[0] * 0.6 && val[1] < c.skin[0] * 0.6 && d0 > 0.01 * W && d1 > 0.01 * W;
+  const double d = found ? 0.5 * (d0 + d1) : 0.06 * W;
+  const double row = found ? 0.5 * (py[0] + py[1]) - 0.25 * (r_sub - r_tip) : r_tip + 0.68 * (r_sub - r_tip);
+  // Wing edge: strongest horizontal grey change outward of the nostril along the alar row.
+  double ax[2];
+  for (int side = 0; side < 2; ++side) {
+    const double s = side == 0 ? -1 : 1;
+    ax[side] = x0 + s * 1.9 * d;
+    const int y = std::clamp(int(std::lround(row)), 1, c.grey.rows - 2);
+    double best = 0;
+    for (double t = 1.4 * d; t <= 2.5 * d; t += 0.5) {
+      const int x = std::clamp(int(std::lround(x0 + s * t)), 1, c.grey.cols - 2);
+      const double gx = std::abs(double(c.grey.at<uchar>(y, x + 1)) - c.grey.at<uchar>(y, x - 1));
+      if (gx > best && gx > 6) best = gx, ax[side] = x0 + s * t;
+    }
+  }
+  n.ok = found;
+  n.alar_image_left = {ax[0], row};
+  n.alar_image_right = {ax[1], row};
+  n.confidence = found ? 0.6 : 0.2;
+  return n;
+}
+
+void add_eye_features(const EyeFound& a, const EyeFound& b, FrontFeatures& out) {
+  // Image-left eye = subject's right eye; its inner corner is the one nearer the image centre.
+  if (a.ok) {
+    out.features["eye_right_center"] = make(a.centre, a.confidence, "filter-dark-blob");
+    out.features["eye_right_outer"] = make(a.corner_image_left, a.confidence, "filter-component");
+    out.features["eye_right_inner"] = make(a.corner_image_right, a.confidence, "filter-component");
+  }
+  if (b.ok) {
+    out.features["eye_left_center"] = make(b.centre, b.confidence, "filter-dark-blob");
+    out.features["eye_left_inner"] = make(b.corner_image_left, b.confidence, "filter-component");
+    out.features["eye_left_outer"] = make(b.corner_image_right, b.confidence, "filter-component");
+  }
+}
+
+void add_brow_features(const FilterContext& c, const EyeFound& a, const EyeFound& b, double W,
+                       double H, FrontFeatures& out) {
+  for (int side = 0; side < 2; ++side) {
+    const EyeFound& e = side == 0 ? a : b;
+    if (!e.ok) continue;
+    const std::string name = side == 0 ? "brow_right_" : "brow_left_";
+    const cv::Rect win = clip(c.grey, e.centre.x - 0.17 * W, e.centre.y - 0.11 * H,
+                              e.centre.x + 0.17 * W, e.centre.y - 0.025 * H);
+    if (win.area() < 16) continue;
+    cv::Mat m;
+    cv::compare(c.grey(win), c.skin[0] * 0.62, m, cv::CMP_LT);
+    cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+    cv::Mat labels, stats, cents;
+    const int k = cv::connectedComponentsWithStats(m, labels, stats, cents, 8, CV_32S);
+    int best = -1;
+    for (int i = 1; i < k; ++i)
+      if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+    if (best < 0 || stats.at<int>(best, cv::CC_STAT_WIDTH) < 0.08 * W) continue;
+    const auto mean_row = [&](int col) {
+      double s = 0;
+      int n = 0;
+      for (int r = 0; r < labels.rows; ++r)
+        if (labels.at<int>(r, col) == best) s += r, ++n;
+      return n ? s / n + win.y : -1.0;
+    };
+    const int x0 = stats.at<int>(best, cv::CC_STAT_LEFT), x1 = x0 + stats.at<int>(best, cv::CC_STAT_WIDTH) - 1;
+    const int xc = std::clamp(int(std::lround(e.centre.x)) - win.x, x0, x1);
+    const cv::Point2d pl(x0 + win.x, mean_row(x0)), pr(x1 + win.x, mean_row(x1)), pc(xc + win.x, mean_row(xc));
+    const double conf = 0.7 * e.confidence + 0.3;
+    out.features[name + "center"] = make(pc, conf, "filter-dark-band");
+    out.features[name + "inner"] = make(side == 0 ? pr : pl, conf, "filter-dark-band");
+    out.features[name + "outer"] = make(side == 0 ? pl : pr, conf, "filter-dark-band");
+  }
+}
+
+void add_nose_mouth_features(const NoseFound& n, const MouthFound& m, FrontFeatures& out) {
+  if (n.ok) {
+    out.features["alar_right"] = make(n.alar_image_left, n.confidence, "filter-nostril+edge");
+    out.features["alar_left"] = make(n.alar_image_right, n.confidence, "filter-nostril+edge");
+  }
+  if (m.ok) {
+    out.features["mouth_right"] = make(m.corner_image_left, m.confidence, "filter-lip-colour");
+    out.features["mouth_left"] = make(m.corner_image_right, m.confidence, "filter-lip-colour");
+  }
+}
+
+void mirror_missing(FrontFeatures& out) {
+  for (std::string_view name : kLandmarkNames) {
+    if (name.find("ear_") == 0) continue;  // ears are seen from the side camera only
+    const std::string other = mirrored_name(name);
+    if (other == name || out.features.count(std::string(name)) || !out.features.count(other)) continue;
+    Feature2d f = out.features[other];
+    f.px = mirror_point(out.centre, f.px);
+    f.confidence *= 0.6;
+    f.method = "mirrored";
+    f.mirrored = true;
+    out.features[std::string(name)] = f;
+    out.warnings.push_back("front view: " + std::string(name) + " not found, mirrored from " + other);
+  }
+}
+
+}  // namespace orthoface::vision

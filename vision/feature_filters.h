@@ -1,0 +1,52 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+#include "vision/front_features.h"
+
+namespace orthoface::vision {
+
+// Local filters for the front-view features (used by front_features; index coordinates).
+struct FilterContext {
+  cv::Mat bgr, grey, lab;  // lab: 8-bit OpenCV Lab
+  cv::Vec3f skin{0, 0, 0};  // Lab of the cheek skin
+};
+// Grey and Lab images plus the skin colour around `skin_at` (a patch of size ~0.1 W).
+FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d skin_at, double W);
+
+struct EyeFound {
+  bool ok = false;
+  cv::Point2d centre, corner_image_left, corner_image_right;
+  double confidence = 0;
+};
+// Eye on the image-left (true) or image-right side: iris = darkest blob of the position-model
+// window, corners = ends of the non-skin component around it.
+EyeFound find_eye(const FilterContext& ctx, double x0, double r_nasion, double W, double H,
+                  bool image_left);
+
+struct MouthFound {
+  bool ok = false;
+  cv::Point2d corner_image_left, corner_image_right;
+  double confidence = 0;
+};
+// Mouth corners: ends of the red / dark lip component between the lip rows.
+MouthFound find_mouth(const FilterContext& ctx, double x0, double r_lu, double r_ll, double W,
+                      double H);
+
+struct NoseFound {
+  bool ok = false;
+  cv::Point2d alar_image_left, alar_image_right;
+  double confidence = 0;
+};
+// Alar points: nostrils as dark blobs, wing edges outside them (position model if no edge).
+NoseFound find_nose(const FilterContext& ctx, double x0, double r_tip, double r_sub, double W,
+                    double H);
+
+void add_eye_features(const EyeFound& image_left, const EyeFound& image_right, FrontFeatures& out);
+void add_brow_features(const FilterContext& ctx, const EyeFound& image_left,
+                       const EyeFound& image_right, double W, double H, FrontFeatures& out);
+void add_nose_mouth_features(const NoseFound& nose, const MouthFound& mouth, FrontFeatures& out);
+// Copies each left/right feature found on one side only across the centre line (seed 004 §4).
+void mirror_missing(FrontFeatures& out);
+
+}  // namespace orthoface::vision

@@ -1,0 +1,111 @@
+// Front-view features (seed 004 §4): position model first guess + local filters + mirroring.
+#include "vision/front_features.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "vision/feature_filters.h"
+
+namespace orthoface::vision {
+
+namespace {
+
+Feature2d make(cv::Point2d p, double conf, const std::string& method) {
+  Feature2d f;
+  f.px = p;
+  f.confidence = std::clamp(conf, 0.0, 1.0);
+  f.method = method;
+  return f;
+}
+
+double row_of(const std::map<std::string, double>& rows, const char* name, double fallback) {
+  const auto it = rows.find(name);
+  return it == rows.end() ? fallback : it->second;
+}
+
+// Centre line through the midpoints of symmetric pairs; roll also from the eye line.
+CentreLine centre_from_pairs(const std::vector<std::pair<cv::Point2d, cv::Point2d>>& pairs,
+                             double fallback_x, double fallback_y) {
+  CentreLine c;
+  c.centre_x = fallback_x;
+  c.centre_y = fallback_y;
+  if (pairs.empty()) return c;
+  double sx = 0, sy = 0;
+  for (const auto& [a, b] : pairs) sx += (a.x + b.x) / 2, sy += (a.y + b.y) / 2;
+  c.centre_x = sx / pairs.size();
+  c.centre_y = sy / pairs.size();
+  // Roll from the first pair (the eyes): the axis is perpendicular to the line joining them.
+  const cv::Point2d d = pairs.front().second - pairs.front().first;
+  const double slope = d.x != 0 ? d.y / d.x : 0.0;
+  c.roll_rad = std::atan(-slope);
+  c.confidence = 0.5 + 0.5 * std::min(1.0, (pairs.size() - 1) / 2.0);
+  return c;
+}
+
+}  // namespace
+
+cv::Point2d mirror_point(const CentreLine& line, cv::Point2d p) {
+  const double t = std::tan(line.roll_rad);
+  cv::Point2d d(t, 1.0);
+  d *= 1.0 / std::hypot(t, 1.0);
+  const cv::Point2d o(line.centre_x, line.centre_y);
+  const cv::Point2d proj = o + d * (p - o).dot(d);
+  return 2 * proj - p;
+}
+
+FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
+                             const std::map<std::string, double>& rows, double H) {
+  if (bgr.empty() || bgr.type() != CV_8UC3)
+    throw std::invalid_argument("front_features: expected 8-bit BGR image");
+  FrontFeatures out;
+  if (fb.left.empty() || fb.right.empty()) {
+    out.warnings.push_back("front view: no boundary, features not searched");
+    return out;
+  }
+  if (H <= 0) H = (fb.bottom_row - fb.top_row) / 1.1;
+  const double top = fb.top_row;
+  // Midline rows: from the profile when given, else the position model (fractions of H).
+  const double r_nasion = row_of(rows, "nose_bridge", top + 0.43 * H);
+  const double r_tip = row_of(rows, "nose_tip", top + 0.58 * H);
+  const double r_sub = row_of(rows, "subnasale", top + 0.65 * H);
+  const double r_lu = row_of(rows, "lip_upper", top + 0.72 * H);
+  const double r_ll = row_of(rows, "lip_lower", top + 0.76 * H);
+  const double r_fh = r_nasion - 0.15 * H;
+  const double x0 = (boundary_x(fb.left, r_fh) + boundary_x(fb.right, r_fh)) / 2;
+  const double W = boundary_x(fb.right, r_fh) - boundary_x(fb.left, r_fh);
+  const FilterContext ctx = make_filter_context(bgr, cv::Point2d(x0, r_tip + 0.06 * H), W);
+  // Eyes: image-left eye is the subject's right eye.
+  const EyeFound er = find_eye(ctx, x0, r_nasion, W, H, true);
+  const EyeFound el = find_eye(ctx, x0, r_nasion, W, H, false);
+  const MouthFound mouth = find_mouth(ctx, x0, r_lu, r_ll, W, H);
+  const NoseFound nose = find_nose(ctx, x0, r_tip, r_sub, W, H);
+  std::vector<std::pair<cv::Point2d, cv::Point2d>> pairs;
+  if (er.ok && el.ok) pairs.push_back({er.centre, el.centre});
+  if (mouth.ok) pairs.push_back({mouth.corner_image_left, mouth.corner_image_right});
+  if (nose.ok) pairs.push_back({nose.alar_image_left, nose.alar_image_right});
+  out.centre = centre_from_pairs(pairs, x0, r_tip);
+  if (!(er.ok && el.ok)) out.centre.confidence *= 0.5;
+  if (pairs.empty()) out.warnings.push_back("front view: centre line from the boundary only");
+  add_eye_features(er, el, out);
+  add_brow_features(ctx, er, el, W, H, out);
+  add_nose_mouth_features(nose, mouth, out);
+  // Midline points: on the centre line at the profile's rows.
+  const auto on_line = [&](double y) {
+    return cv::Point2d(out.centre.centre_x + std::tan(out.centre.roll_rad) * (y - out.centre.centre_y), y);
+  };
+  for (const char* n : {"forehead_top", "nose_bridge", "nose_tip", "subnasale", "lip_upper",
+                        "lip_lower", "chin", "chin_bottom"}) {
+    const auto it = rows.find(n);
+    if (it == rows.end()) continue;
+    out.features[n] = make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
+  }
+  out.features["cheek_right"] = make({boundary_x(fb.left, r_tip), r_tip}, fb.confidence, "boundary");
+  out.features["cheek_left"] = make({boundary_x(fb.right, r_tip), r_tip}, fb.confidence, "boundary");
+  mirror_missing(out);
+  return out;
+}
+
+}  // namespace orthoface::vision

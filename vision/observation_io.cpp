@@ -1,0 +1,130 @@
+#include "vision/observation_io.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "vision/landmarks.h"
+
+namespace orthoface::vision {
+
+namespace {
+
+using nlohmann::json;
+
+json view_json(const ViewObservation& v) {
+  json b = json::array();
+  for (const auto& p : v.boundary) b.push_back({p.x, p.y});
+  json f = json::object();
+  for (const auto& [n, x] : v.features)
+    f[n] = {{"x", x.px.x}, {"y", x.px.y}, {"confidence", x.confidence}, {"method", x.method},
+            {"mirrored", x.mirrored}};
+  return {{"width", v.width}, {"height", v.height}, {"boundary", b},
+          {"boundary_confidence", v.boundary_confidence}, {"features", f}};
+}
+
+const json& field(const json& j, const char* name, const std::string& where) {
+  if (!j.is_object() || !j.contains(name))
+    throw std::invalid_argument("observation JSON: missing field '" + where + name + "'");
+  return j.at(name);
+}
+
+double number(const json& j, const char* name, const std::string& where) {
+  const json& v = field(j, name, where);
+  if (!v.is_number()) throw std::invalid_argument("observation JSON: '" + where + name + "' is not a number");
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw std::invalid_argument("observation JSON: '" + where + name + "' is not finite");
+  return d;
+}
+
+ViewObservation view_from(const json& j, const std::string& where) {
+  ViewObservation v;
+  v.width = int(number(j, "width", where));
+  v.height = int(number(j, "height", where));
+  v.boundary_confidence = number(j, "boundary_confidence", where);
+  const json& b = field(j, "boundary", where);
+  if (!b.is_array()) throw std::invalid_argument("observation JSON: '" + where + "boundary' is not an array");
+  for (const json& p : b) {
+    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
+      throw std::invalid_argument("observation JSON: '" + where + "boundary' holds a non-[x,y] item");
+    v.boundary.emplace_back(p[0].get<double>(), p[1].get<double>());
+  }
+  const json& f = field(j, "features", where);
+  if (!f.is_object()) throw std::invalid_argument("observation JSON: '" + where + "features' is not an object");
+  for (const auto& [name, x] : f.items()) {
+    if (!is_landmark_name(name))
+      throw std::invalid_argument("observation JSON: unknown landmark '" + name + "'");
+    const std::string w = where + "features." + name + ".";
+    Feature2d g;
+    g.px = {number(x, "x", w), number(x, "y", w)};
+    g.confidence = number(x, "confidence", w);
+    const json& m = field(x, "method", w);
+    const json& mi = field(x, "mirrored", w);
+    if (!m.is_string() || !mi.is_boolean())
+      throw std::invalid_argument("observation JSON: '" + w + "method/mirrored' mistyped");
+    g.method = m.get<std::string>();
+    g.mirrored = mi.get<bool>();
+    v.features[name] = g;
+  }
+  return v;
+}
+
+}  // namespace
+
+json to_json(const FaceObservation& o) {
+  return {{"front", view_json(o.front)},
+          {"side", view_json(o.side)},
+          {"centre_line", {{"x_px", o.centre_x_px}, {"y_px", o.centre_y_px},
+                           {"roll_rad", o.roll_rad}, {"confidence", o.centre_confidence}}},
+          {"side_faces_left", o.side_faces_left},
+          {"warnings", o.warnings}};
+}
+
+FaceObservation observation_from_json(const json& j) {
+  FaceObservation o;
+  o.front = view_from(field(j, "front", ""), "front.");
+  o.side = view_from(field(j, "side", ""), "side.");
+  const json& c = field(j, "centre_line", "");
+  o.centre_x_px = number(c, "x_px", "centre_line.");
+  o.centre_y_px = number(c, "y_px", "centre_line.");
+  o.roll_rad = number(c, "roll_rad", "centre_line.");
+  o.centre_confidence = number(c, "confidence", "centre_line.");
+  const json& s = field(j, "side_faces_left", "");
+  if (!s.is_boolean()) throw std::invalid_argument("observation JSON: 'side_faces_left' is not a boolean");
+  o.side_faces_left = s.get<bool>();
+  const json& w = field(j, "warnings", "");
+  if (!w.is_array()) throw std::invalid_argument("observation JSON: 'warnings' is not an array");
+  for (const json& x : w) {
+    if (!x.is_string()) throw std::invalid_argument("observation JSON: a warning is not a string");
+    o.warnings.push_back(x.get<std::string>());
+  }
+  return o;
+}
+
+void write_observation(const FaceObservation& obs, const std::string& path) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    if (!f) throw std::runtime_error("observation file '" + path + "': cannot be written");
+    f << to_json(obs).dump(1) << "\n";
+    if (!f) throw std::runtime_error("observation file '" + path + "': write failed");
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error("observation file '" + path + "': cannot rename: " + ec.message());
+}
+
+FaceObservation read_observation(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("observation file '" + path + "': cannot be read");
+  try {
+    return observation_from_json(json::parse(f));
+  } catch (const json::exception& e) {
+    throw std::runtime_error("observation file '" + path + "': not valid JSON (" + e.what() + ")");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error("observation file '" + path + "': " + e.what());
+  }
+}
+
+}  // namespace orthoface::vision

@@ -1,0 +1,163 @@
+#include "vision/observe.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "vision/contour_chain.h"
+#include "vision/front_boundary.h"
+#include "vision/front_features.h"
+#include "vision/haar_init.h"
+#include "vision/image_prep.h"
+#include "vision/landmarks.h"
+#include "vision/observe_front.h"
+#include "vision/segment.h"
+#include "vision/side_profile.h"
+
+namespace orthoface::vision {
+
+void ObserveOptions::check() const {
+  if (!(max_size_ratio >= 1.0 && max_size_ratio <= 10.0))
+    throw std::invalid_argument("ObserveOptions: max_size_ratio must be in [1, 10]");
+}
+
+namespace {
+
+// Index coordinates -> capture convention (pixel centre = index + 0.5).
+cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
+
+struct SideResult {
+  SideProfile profile;  // in the image as given (un-mirrored), index coordinates
+  bool faces_left = true;
+  double facing_confidence = 0;
+};
+
+SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
+                        std::vector<std::string>& warn) {
+  SideResult r;
+  const cv::Mat prob = foreground_probability(side, bg);
+  int blobs = 0;
+  const cv::Mat mask = head_mask(prob, {}, &blobs);
+  if (mask.empty()) {
+    warn.push_back("side view: no head found (no subject distinct from the background)");
+    return r;
+  }
+  if (blobs > 1) warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
+  r.faces_left = profile_faces_left(mask, &r.facing_confidence);
+  if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
+  else if (r.facing_confidence < 0.3)
+    warn.push_back("side view: facing direction unsure; give --side-camera left|right");
+  cv::Mat im = side, pr = prob, mk = mask;
+  if (!r.faces_left) cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
+  r.profile = side_profile(im, pr, mk);
+  if (!r.faces_left) {
+    const double w1 = side.cols - 1;
+    for (auto& p : r.profile.curve) p.x = w1 - p.x;
+    for (auto& [n, f] : r.profile.features) f.px.x = w1 - f.px.x;
+  }
+  for (const auto& w : r.profile.warnings) warn.push_back(w);
+  return r;
+}
+
+// Ear of the side camera's side from a position model relative to the nose tip (seed 004 §4
+// position model; the ear itself is weakly textured, so confidence stays low).
+void add_side_ears(const SideResult& s, std::map<std::string, Feature2d>& f) {
+  const auto tip = s.profile.features.find("nose_tip");
+  if (tip == s.profile.features.end()) return;
+  const double H = s.profile.head_height_px, dir = s.faces_left ? 1 : -1;
+  const std::string side = s.faces_left ? "left" : "right";
+  Feature2d t;
+  t.px = tip->second.px + cv::Point2d(dir * 0.48 * H, -0.085 * H);
+  t.confidence = 0.15;
+  t.method = "position-model";
+  f["ear_" + side + "_tragus"] = t;
+  t.px = tip->second.px + cv::Point2d(dir * 0.58 * H, -0.23 * H);
+  f["ear_" + side + "_top"] = t;
+}
+
+// The tragi stand out on the front silhouette at the side view's tragus row (shared row).
+void add_front_tragi(FaceObservation& obs) {
+  for (const auto& [name, f] : obs.side.features) {
+    if (name.find("_tragus") == std::string::npos) continue;
+    const double row = f.px.y * obs.front.height / std::max(1, obs.side.height);
+    for (const char* side : {"left", "right"}) {
+      const bool image_right = std::string(side) == "left";  // subject's left = image right
+      for (const cv::Point2d& p : obs.front.boundary) {
+        if (std::abs(p.y - row) > 0.5 || (p.x > obs.centre_x_px) != image_right) continue;
+        Feature2d t = f;
+        t.px = p;
+        t.method = "boundary+side-row";
+        obs.front.features[std::string("ear_") + side + "_tragus"] = t;
+        break;
+      }
+    }
+  }
+}
+
+void check_sizes(const cv::Mat& f, const cv::Mat& s, double ratio) {
+  const double r = double(std::max(f.rows, s.rows)) / std::min(f.rows, s.rows);
+  if (r > ratio)
+    throw std::invalid_argument("front image is " + std::to_string(f.cols) + "x" +
+                                std::to_string(f.rows) + " but side image is " +
+                                std::to_string(s.cols) + "x" + std::to_string(s.rows) +
+                                ": the two views must share the image height (seed 004 eq. 1)");
+}
+
+cv::Mat optional_bgr(const cv::Mat& bg, const cv::Mat& image, const std::string& what) {
+  if (bg.empty()) return {};
+  cv::Mat b = to_bgr8(bg, what);
+  if (b.size() != image.size())
+    throw std::invalid_argument(what + ": size " + std::to_string(b.cols) + "x" +
+                                std::to_string(b.rows) + " differs from its photo");
+  return b;
+}
+
+}  // namespace
+
+FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const ObserveOptions& o) {
+  o.check();
+  const cv::Mat front = to_bgr8(front_in, "front image");
+  const cv::Mat side = to_bgr8(side_in, "side image");
+  check_sizes(front, side, o.max_size_ratio);
+  const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
+  const cv::Mat bgs = optional_bgr(o.background_side, side, "side background");
+  FaceObservation obs;
+  obs.front.width = front.cols, obs.front.height = front.rows;
+  obs.side.width = side.cols, obs.side.height = side.rows;
+  const SideResult s = observe_side(side, bgs, o.side_camera, obs.warnings);
+  obs.side_faces_left = s.faces_left;
+  observe_front(front, bgf, s.profile, double(front.rows) / side.rows, o, obs);
+  for (const auto& p : s.profile.curve) obs.side.boundary.push_back(out_px(p));
+  obs.side.boundary_confidence = s.profile.confidence;
+  for (const auto& [n, f] : s.profile.features) {
+    Feature2d g = f;
+    g.px = out_px(f.px);
+    obs.side.features[n] = g;
+  }
+  std::map<std::string, Feature2d> ears;
+  add_side_ears(s, ears);
+  for (auto& [n, f] : ears) f.px = out_px(f.px), obs.side.features[n] = f;
+  add_front_tragi(obs);
+  return obs;
+}
+
+bool is_complete(const FaceObservation& obs, std::string* missing) {
+  std::string m;
+  if (obs.front.boundary.empty()) m += " front-boundary";
+  if (obs.side.boundary.empty()) m += " side-profile";
+  for (std::string_view n : kLandmarkNames) {
+    if (n.find("ear_") == 0) continue;
+    const auto it = obs.front.features.find(std::string(n));
+    if (it == obs.front.features.end() || it->second.confidence <= 0) m += " front:" + std::string(n);
+  }
+  for (std::string_view n : kProfileLandmarkNames) {
+    const auto it = obs.side.features.find(std::string(n));
+    if (it == obs.side.features.end() || it->second.confidence <= 0) m += " side:" + std::string(n);
+  }
+  if (missing) *missing = m.empty() ? "" : m.substr(1);
+  return m.empty();
+}
+
+}  // namespace orthoface::vision

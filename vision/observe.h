@@ -1,0 +1,36 @@
+#pragma once
+
+#include <string>
+
+#include <opencv2/core.hpp>
+
+#include "vision/observation.h"
+
+namespace orthoface::vision {
+
+// Where the side camera stands (DESIGN.md --side-camera): Left = at the subject's left (head
+// +x), so the face looks toward the image left; Auto = decided from the side image.
+enum class SideCamera { Auto, Left, Right };
+
+struct ObserveOptions {
+  cv::Mat background_front;  // optional empty-scene frames (same size as the photo): silhouettes
+  cv::Mat background_side;   // then come from background difference instead of border colours
+  SideCamera side_camera = SideCamera::Auto;
+  bool use_haar = false;     // optional: OpenCV Haar cascades (opencv-data) check/initialise eyes
+  std::string haar_dir = "/usr/share/opencv4/haarcascades";
+  double max_size_ratio = 1.5;  // front / side image heights may differ at most by this factor
+  void check() const;           // throws std::invalid_argument on out-of-range values
+};
+
+// Seed 004 §4 on a front + side pair: silhouettes, profile, centre line and named features with
+// confidences; pixels follow capture/camera_model.h (pixel centre = index + 0.5). Grey, 16-bit
+// and 4-channel images are converted. Throws std::invalid_argument naming the input for empty,
+// tiny or huge images, sizes too different, or a front image that is clearly a profile. A view
+// without a face gives an observation with empty parts and warnings that say so.
+FaceObservation observe(const cv::Mat& front, const cv::Mat& side, const ObserveOptions& options = {});
+
+// True when both outlines and every front feature and profile landmark are present with
+// non-zero confidence (ears excluded); `missing` (optional) lists what is not.
+bool is_complete(const FaceObservation& obs, std::string* missing = nullptr);
+
+}  // namespace orthoface::vision

@@ -1,0 +1,29 @@
+#pragma once
+
+#include <opencv2/core.hpp>
+
+namespace orthoface::vision {
+
+struct SegmentOptions {
+  double border_fraction = 0.04;  // width of the image strips that sample the background colours
+  double min_head_fraction = 0.01;  // a head blob smaller than this share of the image is "none"
+  void check() const;             // throws std::invalid_argument on out-of-range values
+};
+
+// Probability-like map (CV_32F, 0 = background, 1 = subject) of where the subject is.
+// With `background` (an empty-scene frame of the same size, 8-bit BGR): background difference.
+// Without (empty Mat): colours unlike those seen on the left, right and top image borders.
+// Throws std::invalid_argument when `bgr` is not 8-bit BGR or `background` differs in size/type.
+cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
+                               const SegmentOptions& options = {});
+
+// Binary mask (CV_8U 0/255) of the head blob: the largest central connected component of
+// `probability` > 0.5, holes filled. Empty Mat when nothing large enough is found.
+// `num_blobs` (optional) gets how many blobs were at least half the chosen one's area.
+cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options = {},
+                  int* num_blobs = nullptr);
+
+// Skin-colour likelihood (CV_32F, 0..1) from YCrCb chroma (a wide Cr/Cb box).
+cv::Mat skin_probability(const cv::Mat& bgr);
+
+}  // namespace orthoface::vision

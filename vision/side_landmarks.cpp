@@ -1,0 +1,153 @@
+// Profile landmarks from the fitted side-view curve (seed 004 §4: characteristic points of the
+// profile; the paper names them, the curve analysis here is ours).
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+#include "vision/curve_features.h"
+#include "vision/side_profile.h"
+
+namespace orthoface::vision {
+
+namespace {
+
+Feature2d make(cv::Point2d p, double conf, const char* method) {
+  Feature2d f;
+  f.px = p;
+  f.confidence = conf;
+  f.method = method;
+  return f;
+}
+
+// First / last curve index whose row lies in [y0, y1].
+int first_row_at_least(const std::vector<cv::Point2d>& c, double y) {
+  for (int i = 0; i < int(c.size()); ++i)
+    if (c[i].y >= y) return i;
+  return int(c.size()) - 1;
+}
+
+int argmin_x(const std::vector<cv::Point2d>& c, int a, int b) {
+  int best = a;
+  for (int i = a; i <= b; ++i)
+    if (c[i].x < c[best].x) best = i;
+  return best;
+}
+
+// Lab colour a few pixels inside the profile (the head is to the right of a left-facing curve).
+cv::Vec3f inside_colour(const cv::Mat& lab, const std::vector<cv::Point2d>& c, int i, double d) {
+  const int j0 = std::max(0, i - 2), j1 = std::min(int(c.size()) - 1, i + 2);
+  cv::Point2d t = c[j1] - c[j0];
+  const double len = std::max(1e-9, cv::norm(t));
+  const cv::Point2d in(t.y / len, -t.x / len);  // right-hand normal of a downward walk = inside
+  const cv::Point2d p = c[i] + d * (in.x >= 0 ? in : -in);
+  const int x = std::clamp(int(std::lround(p.x)), 0, lab.cols - 1);
+  const int y = std::clamp(int(std::lround(p.y)), 0, lab.rows - 1);
+  return lab.at<cv::Vec3f>(y, x);
+}
+
+// Hairline: walking up from `start`, the first place the colour inside the profile leaves the
+// forehead skin colour for good. Returns -1 when the colour never changes.
+int hairline(const cv::Mat& bgr, const std::vector<cv::Point2d>& c, int start, double h) {
+  cv::Mat f, lab;
+  bgr.convertTo(f, CV_32F, 1.0 / 255);
+  cv::cvtColor(f, lab, cv::COLOR_BGR2Lab);
+  const double inset = std::max(3.0, 0.02 * h);
+  const int nref = std::max(5, int(0.05 * h));
+  cv::Vec3f ref(0, 0, 0);
+  int cnt = 0;
+  for (int i = start; i > start - nref && i >= 0; --i, ++cnt) ref += inside_colour(lab, c, i, inset);
+  if (cnt == 0) return -1;
+  ref *= 1.0f / cnt;
+  int run = 0;
+  for (int i = start - nref; i >= 0; --i) {
+    const double d = cv::norm(inside_colour(lab, c, i, inset) - ref);
+    run = d > 18.0 ? run + 1 : 0;
+    if (run >= 4) return i + 3;
+  }
+  return -1;
+}
+
+}  // namespace
+
+void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
+  const auto& c = sp.curve;
+  const double H = sp.head_height_px;
+  if (c.size() < 40 || H < 20) {
+    sp.warnings.push_back("side view: profile too short for landmarks");
+    return;
+  }
+  const int n = int(c.size());
+  const double y0 = c.front().y;
+  const double conf = std::clamp(sp.confidence, 0.0, 1.0);
+  // Nose tip: the most projecting point of the face band.
+  const int tip = argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
+  sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
+  // Nasion: deepest point behind the chord from the brow (glabella) to the tip.
+  const int g0 = first_row_at_least(c, c[tip].y - 0.42 * H), g1 = first_row_at_least(c, c[tip].y - 0.22 * H);
+  const int glabella = argmin_x(c, g0, std::max(g0, g1));
+  double depth = 0;
+  deepest_behind_chord(c, glabella, tip, &depth);
+  int nasion = glabella;  // the most posterior point between brow and tip
+  for (int i = glabella; i < tip; ++i)
+    if (c[i].x > c[nasion].x) nasion = i;
+  sp.features["nose_bridge"] = make(c[nasion], conf * std::min(1.0, depth / 2.0), "profile-concavity");
+  // Under the chin the curve runs backward a long way (lips only step back a little).
+  const int lower = first_row_at_least(c, c[tip].y + 0.12 * H);
+  const int reach = std::max(4, int(0.15 * H));
+  int under = -1;
+  for (int i = lower; i + 2 < n && under < 0; ++i) {
+    const cv::Point2d d = c[i + 2] - c[i - 2];
+    if (!(d.x > 0 && std::abs(d.y) < 0.7 * d.x)) continue;
+    double xmax = c[i].x;
+    for (int j = i; j < std::min(n, i + reach); ++j) xmax = std::max(xmax, c[j].x);
+    if (xmax - c[i].x > 0.07 * H) under = i;
+  }
+  if (under < 0) {
+    sp.warnings.push_back("side view: chin not found (profile ends before the throat)");
+    return;
+  }
+  // Lips and chin: alternating extrema of the projection between the tip and the under-chin.
+  std::vector<double> x;
+  for (int i = tip; i <= under; ++i) x.push_back(c[i].x);
+  std::vector<int> mins;
+  for (const Extremum& e : alternating_extrema(x, 0.6))
+    if (!e.is_max && c[tip + e.index].y > c[tip].y + 0.03 * H) mins.push_back(tip + e.index);
+  // The chin is the last projecting point before the under-chin; a retruded chin that is no
+  // local extremum is taken where the tangent turns vertical above the under-chin.
+  int pog = -1;
+  if (!mins.empty() && c[mins.back()].y > c[tip].y + 0.2 * H) pog = mins.back(), mins.pop_back();
+  else pog = tangent_closest(c, std::max(tip, under - int(0.12 * H)), under, M_PI / 2);
+  sp.features["chin"] = make(c[pog], conf, "profile-extremum");
+  const int menton = tangent_closest(c, pog, under, M_PI / 4);  // down-and-back at 45 deg
+  sp.features["chin_bottom"] = make(c[menton], conf * 0.8, "profile-tangent");
+  if (mins.empty()) {
+    sp.warnings.push_back("side view: lips not found on the profile");
+  } else {
+    const int lu = mins.front();
+    sp.features["lip_upper"] = make(c[lu], conf, "profile-extremum");
+    const int sub = deepest_behind_chord(c, tip, lu, &depth);
+    sp.features["subnasale"] = make(c[sub], conf * std::min(1.0, depth / 1.5), "profile-concavity");
+    if (mins.size() >= 2) {
+      sp.features["lip_lower"] = make(c[mins[1]], conf, "profile-extremum");
+    } else {
+      const int mid = (lu + pog) / 2;  // lower lip not standing out: placed by position
+      sp.features["lip_lower"] = make(c[argmin_x(c, lu + (pog - lu) / 4, mid)], conf * 0.4,
+                                      "profile-position-model");
+      sp.warnings.push_back("side view: lower lip does not stand out; placed by position");
+    }
+  }
+  const int hl = hairline(bgr, c, glabella, H);
+  if (hl >= 0) {
+    sp.features["forehead_top"] = make(c[hl], conf * 0.8, "profile-colour");
+  } else {
+    const int i = first_row_at_least(c, c[nasion].y - 0.3 * H);
+    sp.features["forehead_top"] = make(c[i], 0.2, "position-model");
+    sp.warnings.push_back("side view: hairline not seen; forehead top placed by position");
+  }
+  // Trim the curve: throat = a little below the chin bottom.
+  const int end = std::min(n - 1, first_row_at_least(c, c[menton].y + 0.12 * H));
+  sp.curve.resize(std::max(end + 1, under + 1));
+}
+
+}  // namespace orthoface::vision

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "vision/observation.h"
+#include "vision/profile_fit.h"
+
+namespace orthoface::vision {
+
+struct SideProfileOptions {
+  double control_spacing_px = 9.0;  // arc length between the profile model's control points
+  ProfileFitOptions fit;            // the iterative fit; num_control/samples are set from length
+  void check() const;               // throws std::invalid_argument on out-of-range values
+};
+
+// The front half of a profile in a side image whose face looks toward the image LEFT (callers
+// mirror a right-facing image first). Index coordinates: pixel (c, r) has its centre at (c, r).
+struct SideProfile {
+  std::vector<cv::Point2d> curve;  // crown -> forehead -> nose -> lips -> chin -> throat, ~1 px
+  double confidence = 0.0;         // share of the curve backed by edges, times a shape check
+  double head_height_px = 0.0;     // estimated crown-to-chin height
+  std::map<std::string, Feature2d> features;  // profile landmarks + ear (see vision/landmarks.h)
+  std::vector<std::string> warnings;
+};
+
+// Profile of the head blob `mask` (CV_8U) in `bgr` (8-bit BGR), refined on the edges of the
+// foreground probability `prob` (CV_32F) by the seed 004 §4 B-spline fit; profile landmarks from
+// the curve's extrema and concavities. An empty mask gives an empty result with a warning.
+// Throws std::invalid_argument when the sizes or types differ.
+SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat& mask,
+                         const SideProfileOptions& options = {});
+
+// Profile landmarks (kProfileLandmarkNames + chin_bottom) of sp.curve, added to sp.features:
+// nose tip = most projecting point, nasion / subnasale = deepest concavities, lips and chin =
+// alternating extrema of the projection, chin bottom = tangent at 45 deg under the chin,
+// forehead top = skin-to-hair colour change along the curve. Missing ones add a warning.
+void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);
+
+// True when the profile in `mask` (head blob of a side image) looks toward the image left;
+// `confidence` (optional) gets 0..1 from how much one side's nose bump dominates.
+bool profile_faces_left(const cv::Mat& mask, double* confidence = nullptr);
+
+}  // namespace orthoface::vision
