@@ -92,10 +92,9 @@ std::map<std::string, double> profile_heights(const HeadSurface& s, double theta
   const size_t sub = p.best(p.y[lu], p.y[tip], [&](double y, double z) {
     return (Eigen::Vector2d(z, y) - T).dot(nrm);
   });
-  // Chin bottom: the chin point projecting furthest 60 degrees below forward.
-  const size_t cb = p.best(a.y_menton - 25, p.y[chin], [](double y, double z) {
-    return 0.5 * z - 0.866 * y;
-  });
+  // Chin bottom (gnathion): the chin point projecting furthest 45 degrees below forward;
+  // steeper directions would pick the throat, which leans forward under the chin.
+  const size_t cb = p.best(a.y_menton - 25, p.y[chin], [](double y, double z) { return z - y; });
   h["nose_tip"] = p.y[tip];
   h["nose_bridge"] = p.y[bridge];
   h["lip_upper"] = p.y[lu];

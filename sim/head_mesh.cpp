@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <numbers>
 #include <stdexcept>
 #include <string>
@@ -46,7 +47,9 @@ HeadParametrization::HeadParametrization(const HeadSurface& s) {
       // Face heights get about twice the ring density of the skull and the neck.
       const double face = smoothstep(a.y_menton - 20, a.y_menton - 5, y) *
                           (1 - smoothstep(a.y_brow + 5, a.y_hair + 5, y));
-      acc += (1 + 1.3 * face) * std::hypot(dy, dr);
+      // Steep steps (under the nose) get somewhat denser rings, but capped: rings are global,
+      // so a cluster there would crowd the whole circumference.
+      acc += (1 + 1.3 * face) * std::hypot(dy, y < a.y_brow ? std::min(dr, 1.2 * dy) : dr);
     }
     ys_.push_back(y);
     ts_.push_back(acc);
@@ -88,8 +91,9 @@ struct Grid {
   std::vector<double> ring_t;  // ascending, ring_t.back() == 1
 };
 
-// Ring t values: uniform in t, with the nearest ring moved onto each key height so that
-// profile landmarks (nose tip, lips, chin, ...) are mesh vertices.
+// Ring t values: uniform in t, then warped piecewise linearly so that a ring lies on each key
+// height (profile landmarks such as the nose tip, lips and chin become mesh vertices) while the
+// spacing changes gradually.
 Grid make_grid(const HeadOptions& o, const HeadParametrization& param,
                const std::vector<double>& key_y) {
   Grid g;
@@ -99,21 +103,28 @@ Grid make_grid(const HeadOptions& o, const HeadParametrization& param,
     g.segments = std::max(16, 2 * static_cast<int>(std::lround(std::sqrt(0.6 * o.target_triangles) / 2)));
     rings = std::max(16, static_cast<int>(std::lround(o.target_triangles / (2.0 * g.segments))) - 1);
   }
-  for (int i = 1; i <= rings; ++i) g.ring_t.push_back(static_cast<double>(i) / rings);
-  std::vector<bool> moved(rings, false);
+  std::map<int, double> anchor = {{0, 0.0}, {rings, 1.0}};  // ring number (1-based) -> t
   for (double y : key_y) {
     const double t = param.t_of_y(y);
-    const int i = static_cast<int>(std::lround(t * rings)) - 1;
-    if (i < 0 || i >= rings - 1 || moved[i]) continue;
-    const double lo = i > 0 ? g.ring_t[i - 1] : 0.0, hi = g.ring_t[i + 1];
-    if (t > lo + 0.2 / rings && t < hi - 0.2 / rings) {
-      g.ring_t[i] = t;
-      moved[i] = true;
+    const int k = static_cast<int>(std::lround(t * rings));
+    if (k > 0 && k < rings && !anchor.count(k)) anchor[k] = t;
+  }
+  // Drop anchors that would not keep t increasing.
+  for (auto it = std::next(anchor.begin()); it != anchor.end();) {
+    if (it->second <= std::prev(it)->second) it = anchor.erase(it); else ++it;
+  }
+  for (int k = 1; k <= rings; ++k) {
+    const auto hi = anchor.lower_bound(k);  // exists: anchor[rings]
+    if (hi->first == k) {
+      g.ring_t.push_back(hi->second);
+      continue;
     }
+    const auto lo = std::prev(hi);  // exists: anchor[0]
+    const double f = static_cast<double>(k - lo->first) / (hi->first - lo->first);
+    g.ring_t.push_back(lo->second + f * (hi->second - lo->second));
   }
   return g;
 }
-
 
 // Vertex index of ring i (0-based), column j (0..segments; column `segments` is the seam copy
 // of column 0). Vertex 0 is the crown; the cap ring and the bottom pole come last.

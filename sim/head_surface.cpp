@@ -95,12 +95,12 @@ HeadSurface::HeadSurface(const HeadParams& p) : p_(p) {
   const double hw = p.head_width / 2, hd = p.head_depth / 2, jw = p.jaw_width / 2;
   std::vector<double> key_y = {a.y_dome, a.y_brow, a.y_eye, 0.0, a.y_tip, a.y_sub, a.y_mouth,
                                a.y_mouth - 12, a.y_chin_start};
-  const std::vector<Eigen::Vector4d> key = {{hw, hd - 3, hd, 2.1},
-                                            {hw - 1.5, hd - 5.5, hd - 1, 2.1},
-                                            {hw - 3.5, hd - 9, hd - 4, 2.0},
-                                            {hw - 6, hd - 10, hd - 10, 2.0},
-                                            {hw - 9, hd - 10.5, hd - 24, 2.0},
-                                            {std::max(jw + 6, hw - 14), hd - 10.5, hd - 40, 2.0},
+  const std::vector<Eigen::Vector4d> key = {{hw, hd - 3, hd, 2.2},
+                                            {hw - 1.5, hd - 5.5, hd - 1, 2.3},
+                                            {hw - 3.5, hd - 9, hd - 4, 2.45},
+                                            {hw - 6, hd - 10, hd - 10, 2.45},
+                                            {hw - 9, hd - 10.5, hd - 24, 2.3},
+                                            {std::max(jw + 6, hw - 14), hd - 10.5, hd - 40, 2.1},
                                             {jw + 3, hd - 10.5, 35, 1.9},
                                             {jw, hd - 11, 15, 1.8},
                                             {0.32 * p.jaw_width, hd - 12, 5, 2.0}};
@@ -151,8 +151,10 @@ double HeadSurface::base_radius(double theta, double y) const {
       const double q = (y - a.y_mouth) / (neck_top - a.y_mouth);
       scale = std::sqrt(std::max(0.0, 1 - q * q));
     }
+    // The neck leans forward a little toward its base.
     const double w = p_.neck_width;
-    if (scale > 0) neck = ellipse_radius(theta, scale * w / 2, scale * 0.52 * w, -scale * (0.12 * w + 8));
+    const double zc = -(0.1 * w + 6) + 0.12 * std::max(0.0, a.y_menton - y);
+    if (scale > 0) neck = ellipse_radius(theta, scale * w / 2, scale * 0.46 * w, scale * zc);
   }
   return std::pow(std::pow(head, kUnionPower) + std::pow(neck, kUnionPower), 1.0 / kUnionPower);
 }
@@ -235,7 +237,7 @@ double HeadSurface::ear_bump(double z, double y, double side) const {
   const double v = -ez * std::sin(kEarTilt) + ey * std::cos(kEarTilt);
   const double w = ez * std::cos(kEarTilt) + ey * std::sin(kEarTilt);
   const double r = std::hypot(w / a.ear_rz, v / a.ear_ry);
-  const double P = p_.ear_protrusion;
+  const double P = 1.3 * p_.ear_protrusion;
   const double inside = sigmoid((1 - r) / 0.05);
   double e = P * (0.55 + 0.45 * std::exp(-std::pow((r - 0.82) / 0.13, 2))) * inside *
              (0.8 - 0.2 * std::clamp(w / a.ear_rz, -1.0, 1.0));

@@ -44,6 +44,18 @@ Rgb mix(const Rgb& a, const Rgb& b, double t) { return a + std::clamp(t, 0.0, 1.
 // Soft inside-ness of a signed distance d (negative inside), edge width e mm.
 double inside(double d, double e = 0.35) { return smoothstep(e, -e, d); }
 
+// What varies slowly over the surface, sampled on a coarse (u, t) grid and interpolated.
+struct Sample {
+  Eigen::Vector3d q = Eigen::Vector3d::Zero();    // surface point
+  Eigen::Vector3d ear{10, 0, 0};                  // HeadSurface::ear_coords
+  Eigen::Vector3d tint = Eigen::Vector3d::Ones();  // skin colour factor
+  double ear_w = 0, hair_noise = 0;
+  Sample operator*(double w) const { return {q * w, ear * w, tint * w, ear_w * w, hair_noise * w}; }
+  Sample operator+(const Sample& o) const {
+    return {q + o.q, ear + o.ear, tint + o.tint, ear_w + o.ear_w, hair_noise + o.hair_noise};
+  }
+};
+
 struct Painter {
   const HeadSurface& s;
   const HeadAnchors& a;
@@ -62,7 +74,7 @@ struct Painter {
     hair = p.hair_darkness < 0.5 ? mix(blond, brown, 2 * p.hair_darkness)
                                  : mix(brown, black, 2 * p.hair_darkness - 1);
     brow = mix(hair, Rgb(0.12, 0.08, 0.06), 0.35);
-    lip = skin.cwiseProduct(Rgb(0.86, 0.55, 0.55)) + Rgb(0.06, 0, 0.01);
+    lip = skin.cwiseProduct(Rgb(0.84, 0.58, 0.57)) + Rgb(0.05, 0, 0.01);
     seed = static_cast<std::uint32_t>(p.head_width * 1000 + p.nose_length * 7777 +
                                       p.skin_tone * 99991 + p.eye_spacing * 313);
   }
@@ -82,15 +94,14 @@ struct Painter {
     return knots_y[8];
   }
 
-  Rgb skin_at(const Eigen::Vector3d& q) const {
-    double shade = 1 + 0.05 * noise3(q, 35, seed) + 0.03 * noise3(q, 9, seed + 1) +
-                   0.025 * noise3(q, 0.6, seed + 2);
-    Rgb c = skin * shade;
-    // Rosy cheeks, slightly darker under the jaw and around the eyes.
+  // Slowly varying skin colour factor at q: mottling and rosy cheeks (sampled on the grid).
+  Rgb skin_tint(const Eigen::Vector3d& q) const {
+    const double shade = 1 + 0.05 * noise3(q, 35, seed) + 0.03 * noise3(q, 9, seed + 1);
+    Rgb c = Rgb::Constant(shade);
     for (double side : {-1.0, 1.0}) {
       const double d2 = std::pow(q.x() - side * (std::abs(a.x_eye_left) + 8), 2) / 400 +
                         std::pow(q.y() - (a.y_tip - 4), 2) / 300;
-      c += std::exp(-d2) * 0.05 * Rgb(1.0, -0.4, -0.4) * (q.z() > 0);
+      if (q.z() > 0) c += std::exp(-d2) * 0.05 * Rgb(1.0, -0.4, -0.4);
     }
     return c;
   }
@@ -119,16 +130,15 @@ struct Painter {
     return c;
   }
 
-  Rgb brows(Rgb c, double x, double y) const {
+  Rgb brows(Rgb c, double x, double y, double strand) const {
     const int side = x >= 0 ? 1 : -1;
     const Eigen::Vector3d b0 = brow_point(s, side, 0), b1 = brow_point(s, side, 1);
     const double sb = (x - b0.x()) / (b1.x() - b0.x());
     if (sb < -0.1 || sb > 1.1) return c;
     const Eigen::Vector3d b = brow_point(s, side, std::clamp(sb, 0.0, 1.0));
     const double end = std::max(-sb, sb - 1) * (b1.x() - b0.x()) * side;
-    const double strands = 0.5 + 0.5 * std::sin(x * 2.3 + y * 0.9);
     const double w = inside(std::abs(y - b.y()) - b.z() / 2, 0.6) * inside(end, 0.8);
-    return mix(c, brow, w * (0.75 + 0.2 * strands));
+    return mix(c, brow, w * (0.8 + 0.2 * strand));
   }
 
   Rgb mouth(Rgb c, double x, double y) const {
@@ -148,8 +158,8 @@ struct Painter {
   Rgb nose(Rgb c, double x, double y) const {
     const double xm = x - a.x_mid, nw = p.nose_width;
     for (double side : {-1.0, 1.0}) {
-      const double dx = (xm - side * (nw / 2 - 9.5)) / 3.6, dy = (y - (a.y_sub + 2.6)) / 2.1;
-      c = mix(c, Rgb(0.16, 0.08, 0.07), inside(std::hypot(dx, dy) - 1, 0.25));
+      const double dx = (xm - side * (nw / 2 - 9.5)) / 3.3, dy = (y - (a.y_sub + 2.6)) / 1.9;
+      c = mix(c, Rgb(0.22, 0.12, 0.10), inside(std::hypot(dx, dy) - 1, 0.3));
       // Alar crease around the nostril wing.
       const double ax = (xm - side * (nw / 2 - 7)) / 7.5, ay = (y - (a.y_sub + 5)) / 6.5;
       const double d = std::hypot(ax * 7.5 / 7.0, ay);
@@ -158,27 +168,24 @@ struct Painter {
     return c;
   }
 
-  Rgb ear(Rgb c, double theta, double y) const {
-    const Eigen::Vector3d e = s.ear_coords(theta, y);
-    if (e[0] > 1.15 || std::abs(std::sin(theta)) < 0.5) return c;
+  Rgb ear(Rgb c, const Eigen::Vector3d& e) const {
     c *= 1 - 0.3 * inside(std::abs(e[0] - 1) - 0.04, 0.03);                // outline shadow
     c *= 1 - 0.3 * inside(std::hypot((e[1] - 0.25) / 0.45, (e[2] + 0.1) / 0.45) - 1, 0.15);  // concha
     c *= 1 - 0.12 * inside(std::abs(e[0] - 0.68) - 0.05, 0.04);             // helix fold
     return c;
   }
 
-  Rgb color(double theta, double y, const Eigen::Vector3d& q) const {
-    Rgb c = skin_at(q);
-    const double ear_w = std::abs(std::sin(theta)) > 0.5 ? s.ear_weight(theta, y) : 0.0;
-    const double hl = hairline(theta) + 1.5 * noise3(q, 4, seed + 3);
-    const double h = inside(hl - y, 1.2) * (1 - smoothstep(0.1, 0.4, ear_w));
-    if (h > 0) {
-      const double strand = 0.12 * noise3(Eigen::Vector3d(q.x() * 4, q.y() * 0.4, q.z() * 4), 3, seed + 4);
-      c = mix(c, hair * (1 + strand), h);
-    }
-    if (ear_w > 0.01) c = ear(c, theta, y);
+  // Colour at surface point q (y exact) with the grid-interpolated sample.
+  Rgb color(double theta, const Eigen::Vector3d& q, const Sample& g, double fine,
+            double strand) const {
+    const double y = q.y();
+    Rgb c = skin.cwiseProduct(g.tint) * (1 + fine);
+    const double hl = hairline(theta) + g.hair_noise;
+    const double h = inside(hl - y, 1.0) * (1 - smoothstep(0.1, 0.4, g.ear_w));
+    if (h > 0) c = mix(c, hair * (1 + 0.15 * strand + 0.5 * fine), h);
+    if (g.ear_w > 0.01) c = ear(c, g.ear);
     if (q.z() > 20 && std::cos(theta) > 0.3) {
-      c = brows(c, q.x(), y);
+      c = brows(c, q.x(), y, strand);
       c = eye(c, q.x(), y, q.x() >= 0 ? 1 : -1);
       c = mouth(c, q.x(), y);
       c = nose(c, q.x(), y);
@@ -187,34 +194,59 @@ struct Painter {
   }
 };
 
+// Per-texel noise in [-1, 1] for a column / row index (hair strands, skin grain).
+double texel_noise(int k, std::uint32_t seed) { return hash3(k, 7, 3, seed) / 2147483647.5 - 1; }
+
+std::vector<Sample> sample_grid(const HeadSurface& surface, const HeadParametrization& param,
+                                const Painter& painter, int g) {
+  std::vector<Sample> grid((g + 1) * (g + 1));
+  for (int r = 0; r <= g; ++r) {
+    const double y = param.y(static_cast<double>(r) / g);
+    for (int c = 0; c <= g; ++c) {
+      const double theta = HeadParametrization::theta(static_cast<double>(c) / g);
+      Sample& s = grid[r * (g + 1) + c];
+      s.q = surface.point(theta, y);
+      if (std::abs(std::sin(theta)) > 0.5) {
+        s.ear = surface.ear_coords(theta, y);
+        s.ear_w = surface.ear_weight(theta, y);
+      }
+      s.tint = painter.skin_tint(s.q);
+      s.hair_noise = 0.9 * noise3(s.q, 6, painter.seed + 3);
+    }
+  }
+  return grid;
+}
+
 }  // namespace
 
 cv::Mat head_texture(const HeadSurface& surface, const HeadParametrization& param, int size) {
-  // Surface points on a coarse (u, t) grid, bilinearly interpolated per texel: evaluating the
-  // analytic surface for every texel would take seconds.
-  const int g = std::min(size, 320);
-  std::vector<Eigen::Vector3d> grid((g + 1) * (g + 1));
-  std::vector<double> ys(g + 1);
-  for (int r = 0; r <= g; ++r) {
-    ys[r] = param.y(static_cast<double>(r) / g);
-    for (int c = 0; c <= g; ++c)
-      grid[r * (g + 1) + c] = surface.point(HeadParametrization::theta(static_cast<double>(c) / g), ys[r]);
-  }
+  // Slowly varying quantities come from a coarse (u, t) grid, bilinearly interpolated per
+  // texel: evaluating the analytic surface for every texel would take seconds.
+  const int g = std::min(size, 160);
   const Painter painter(surface);
+  const std::vector<Sample> grid = sample_grid(surface, param, painter, g);
+  // Hair strands run vertically (noise per column, smoothed); brow hairs too, roughly.
+  std::vector<double> strands(size);
+  for (int c = 0; c < size; ++c)
+    strands[c] = 0.5 * texel_noise(c, painter.seed) + 0.25 * texel_noise(c - 1, painter.seed) +
+                 0.25 * texel_noise(c + 1, painter.seed);
   cv::Mat tex(size, size, CV_8UC3);
   for (int r = 0; r < size; ++r) {
     const double t = (r + 0.5) / size, y = param.y(t);
     const double fr = t * g;
     const int r0 = std::min(static_cast<int>(fr), g - 1);
+    const double wr = fr - r0;
     auto* row = tex.ptr<cv::Vec3b>(r);
     for (int c = 0; c < size; ++c) {
       const double u = (c + 0.5) / size, fc = u * g;
       const int c0 = std::min(static_cast<int>(fc), g - 1);
-      const double wr = fr - r0, wc = fc - c0;
-      const Eigen::Vector3d q =
-          (1 - wr) * ((1 - wc) * grid[r0 * (g + 1) + c0] + wc * grid[r0 * (g + 1) + c0 + 1]) +
-          wr * ((1 - wc) * grid[(r0 + 1) * (g + 1) + c0] + wc * grid[(r0 + 1) * (g + 1) + c0 + 1]);
-      const Rgb rgb = painter.color(HeadParametrization::theta(u), y, Eigen::Vector3d(q.x(), y, q.z()));
+      const double wc = fc - c0;
+      const int k = r0 * (g + 1) + c0;
+      const Sample s = (grid[k] * (1 - wc) + grid[k + 1] * wc) * (1 - wr) +
+                       (grid[k + g + 1] * (1 - wc) + grid[k + g + 2] * wc) * wr;
+      const double fine = 0.025 * texel_noise(r * size + c, painter.seed + 5);
+      const Rgb rgb = painter.color(HeadParametrization::theta(u), Eigen::Vector3d(s.q.x(), y, s.q.z()),
+                                    s, fine, strands[c]);
       row[c] = cv::Vec3b(static_cast<uchar>(255 * rgb[2] + 0.5), static_cast<uchar>(255 * rgb[1] + 0.5),
                          static_cast<uchar>(255 * rgb[0] + 0.5));
     }
