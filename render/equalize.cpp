@@ -1,0 +1,120 @@
+#include "render/equalize.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::render::detail {
+
+Eigen::Vector2d undistorted_pixel(const capture::CameraModel& c, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d pc = c.cam_from_head * p;
+  const Eigen::Vector2d xy = c.projection == capture::Projection::Orthographic
+                                 ? Eigen::Vector2d(pc.x(), pc.y())
+                                 : Eigen::Vector2d(pc.x() / pc.z(), pc.y() / pc.z());
+  return {c.cx + c.fx * xy.x(), c.cy + c.fy * xy.y()};
+}
+
+double facing(const capture::CameraModel& c, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
+  if (c.projection == capture::Projection::Orthographic)
+    return n.dot(-capture::view_direction(c));
+  const Eigen::Vector3d centre = c.cam_from_head.inverse().translation();
+  return n.dot((centre - p).normalized());
+}
+
+bool source_sees(const capture::CameraModel& c, const cv::Mat& depth, const Eigen::Vector3d& p,
+                 double cosine, double tolerance_mm) {
+  if (!(cosine > 0)) return false;
+  const double z = capture::depth(c, p);
+  if (c.projection == capture::Projection::Perspective && !(z > 0)) return false;
+  const Eigen::Vector2d u = undistorted_pixel(c, p);
+  const int col = int(std::floor(u.x())), row = int(std::floor(u.y()));
+  if (col < 0 || row < 0 || col >= depth.cols || row >= depth.rows) return false;
+  const double px_mm = (c.projection == capture::Projection::Perspective ? z : 1.0) / c.fx;
+  const double tol = tolerance_mm + 1.5 * px_mm / std::max(cosine, 0.2);  // as in the shader
+  return z <= depth.at<float>(row, col) + tol;
+}
+
+cv::Vec3d bilinear(const cv::Mat& bgr, const Eigen::Vector2d& uv) {
+  const double x = std::clamp(uv.x() - 0.5, 0.0, bgr.cols - 1.0);
+  const double y = std::clamp(uv.y() - 0.5, 0.0, bgr.rows - 1.0);
+  const int x0 = int(x), y0 = int(y);
+  const int x1 = std::min(x0 + 1, bgr.cols - 1), y1 = std::min(y0 + 1, bgr.rows - 1);
+  const double fx = x - x0, fy = y - y0;
+  cv::Vec3d out;
+  for (int k = 0; k < 3; ++k)
+    out[k] = (1 - fy) * ((1 - fx) * bgr.at<cv::Vec3b>(y0, x0)[k] + fx * bgr.at<cv::Vec3b>(y0, x1)[k]) +
+             fy * ((1 - fx) * bgr.at<cv::Vec3b>(y1, x0)[k] + fx * bgr.at<cv::Vec3b>(y1, x1)[k]);
+  return out;
+}
+
+namespace {
+
+void lab_stats(const std::vector<cv::Vec3f>& bgr01, cv::Vec3d& mean, cv::Vec3d& stddev) {
+  cv::Mat lab;
+  cv::cvtColor(cv::Mat(bgr01).reshape(3, int(bgr01.size())), lab, cv::COLOR_BGR2Lab);
+  cv::Scalar m, s;
+  cv::meanStdDev(lab, m, s);
+  mean = cv::Vec3d(m[0], m[1], m[2]);
+  stddev = cv::Vec3d(s[0], s[1], s[2]);
+}
+
+}  // namespace
+
+ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
+                         const std::vector<Eigen::Vector3d>& normals,
+                         const capture::RigCalibration& rig, const std::array<cv::Mat, 2>& depth,
+                         const std::array<cv::Mat, 2>& photos) {
+  const capture::CameraModel* cams[2] = {&rig.front, &rig.side};
+  std::array<std::vector<cv::Vec3f>, 2> overlap;
+  std::vector<Eigen::Vector2d> front_seen;
+  for (size_t v = 0; v < vertices.size(); ++v) {
+    const Eigen::Vector3d& p = vertices[v];
+    double cosine[2];
+    bool sees[2];
+    for (int i = 0; i < 2; ++i) {
+      cosine[i] = facing(*cams[i], p, normals[v]);
+      sees[i] = source_sees(*cams[i], depth[i], p, cosine[i], 1.0);
+    }
+    if (sees[0] && cosine[0] > 0.5) front_seen.push_back(capture::project(*cams[0], p));
+    if (!(sees[0] && sees[1] && cosine[0] > 0.35 && cosine[1] > 0.35)) continue;
+    for (int i = 0; i < 2; ++i)
+      overlap[i].push_back(cv::Vec3f(bilinear(photos[i], capture::project(*cams[i], p)) / 255.0));
+  }
+  ColourMatch m;
+  m.samples = int(overlap[0].size());
+  if (m.samples > 0)
+    for (int i = 0; i < 2; ++i) lab_stats(overlap[i], m.mean[i], m.stddev[i]);
+  if (!front_seen.empty()) {
+    const cv::Mat front = equalized(photos[0], m, 0);
+    cv::Vec3d sum(0, 0, 0);
+    for (const auto& uv : front_seen) sum += bilinear(front, uv);
+    sum /= double(front_seen.size());
+    m.fill = cv::Vec3b(cv::saturate_cast<uchar>(sum[0]), cv::saturate_cast<uchar>(sum[1]),
+                       cv::saturate_cast<uchar>(sum[2]));
+  }
+  return m;
+}
+
+cv::Mat equalized(const cv::Mat& photo, const ColourMatch& m, int source) {
+  if (m.samples < kMinSamples) return photo.clone();
+  cv::Mat lab;
+  photo.convertTo(lab, CV_32F, 1.0 / 255);
+  cv::cvtColor(lab, lab, cv::COLOR_BGR2Lab);
+  std::vector<cv::Mat> ch;
+  cv::split(lab, ch);
+  for (int k = 0; k < 3; ++k) {
+    const double target_mean = 0.5 * (m.mean[0][k] + m.mean[1][k]);
+    const double target_std = 0.5 * (m.stddev[0][k] + m.stddev[1][k]);
+    const double s = m.stddev[source][k];
+    const double gain = s > 1e-6 ? std::clamp(target_std / s, 0.67, 1.5) : 1.0;
+    ch[k].convertTo(ch[k], CV_32F, gain, target_mean - gain * m.mean[source][k]);
+  }
+  cv::merge(ch, lab);
+  cv::cvtColor(lab, lab, cv::COLOR_Lab2BGR);
+  cv::Mat out;
+  lab.convertTo(out, CV_8U, 255.0);
+  return out;
+}
+
+}  // namespace orthoface::render::detail

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <array>
+#include <memory>
+
+#include <opencv2/core.hpp>
+
+#include "capture/camera_model.h"
+#include "model/tri_mesh.h"
+#include "render/renderer.h"
+
+namespace orthoface::render {
+
+// How a visible surface point mixes the two source photos (seed 004 §6).
+enum class Blend {
+  Pick,      // the photo whose camera the point faces more (larger projected area), feathered
+  Weighted,  // both photos, weight = cos(angle between normal and camera)^weighted_power
+};
+
+struct SynthesisOptions {
+  Blend blend = Blend::Pick;
+  double feather_deg = 6;              // Pick: blend over +-this normal angle around the switch
+  double weighted_power = 2;           // Weighted: exponent of the facing cosine
+  double visibility_tolerance_mm = 1;  // seen by a source if within this of its depth map (+ slope)
+  double visibility_feather_px = 1.5;  // soft occlusion edge, in source pixels
+  bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
+  cv::Scalar background{0, 0, 0};      // BGR 0..255
+  bool source_weights = false;         // also return per-pixel source weights (slower)
+  void check() const;                  // throws std::invalid_argument naming the bad field
+};
+
+struct SynthesisResult {
+  RenderResult view;  // image, z_cam depth (mm), mask of the new view
+  cv::Mat weights;    // if asked: CV_8UC3 (front, side, unseen) shares x255 per pixel
+};
+
+// Colour equalisation (Lab mean / std of each photo over the surface both cameras see well,
+// mapped to their average). Computed when photos are set.
+struct ColourMatch {
+  std::array<cv::Vec3d, 2> mean{}, stddev{};  // Lab (L 0..100) of the front, side samples
+  int samples = 0;                            // surface points used; < 20 means no change
+  cv::Vec3b fill{128, 128, 128};              // BGR used where no photo sees the surface
+};
+
+// New views by texture inheritance (seed 004 §6). Owns a render context; the mesh (head frame,
+// mm) and the two photos are uploaded once, each source camera's depth map is rendered once, so
+// render() only draws. Photos are 8-bit BGR of their camera's size. A point a photo cannot see
+// (behind its depth map, facing away, outside the frame) never takes colour from it; points no
+// photo sees get ColourMatch::fill. Throws std::invalid_argument on a bad mesh, rig or photo
+// (naming it) and std::runtime_error when libOSMesa cannot create a context.
+class ViewSynthesizer {
+ public:
+  ViewSynthesizer(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+                  const cv::Mat& front, const cv::Mat& side);
+  ~ViewSynthesizer();
+  ViewSynthesizer(const ViewSynthesizer&) = delete;
+  ViewSynthesizer& operator=(const ViewSynthesizer&) = delete;
+
+  // New photos (e.g. live frames) for the same rig; the mesh stays uploaded.
+  void set_photos(const cv::Mat& front, const cv::Mat& side);
+  // A new mesh for the same rig and photos (re-renders the source depth maps).
+  void set_mesh(const model::TriMesh& mesh);
+
+  // The view seen by `camera` (any projection / pose). Throws std::invalid_argument on a bad
+  // camera size (0 or > kMaxRenderSize) or options.
+  SynthesisResult render(const capture::CameraModel& camera, const SynthesisOptions& options = {});
+
+  const ColourMatch& colour_match() const;
+  // z_cam depth map (mm, +inf where empty) of source 0 (front) or 1 (side).
+  cv::Mat source_depth(int source) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// One-off synthesis with a temporary context.
+SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+                                const cv::Mat& front, const cv::Mat& side,
+                                const capture::CameraModel& camera,
+                                const SynthesisOptions& options = {});
+
+}  // namespace orthoface::render

@@ -1,0 +1,292 @@
+// Texture inheritance (seed 004 §6) on scenes whose true views are known: the source photos and
+// the truth are renders of the same textured mesh.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include <opencv2/imgproc.hpp>
+
+#include "capture/camera_model.h"
+#include "render/image_metrics.h"
+#include "render/new_view.h"
+#include "render/renderer.h"
+#include "render/shapes.h"
+
+namespace orthoface::render {
+namespace {
+
+using capture::CameraModel;
+
+struct Scene {
+  model::TriMesh textured, bare;
+  capture::RigCalibration rig;
+  cv::Mat front, side;
+};
+
+model::TriMesh without_texture(model::TriMesh m) {
+  m.uvs.clear();
+  m.texture = cv::Mat();
+  m.colors.clear();
+  return m;
+}
+
+Scene make_scene(const model::TriMesh& textured, const capture::RigCalibration& rig) {
+  Scene s{textured, without_texture(textured), rig, {}, {}};
+  Renderer r;
+  s.front = r.render(textured, rig.front).image;
+  s.side = r.render(textured, rig.side).image;
+  return s;
+}
+
+Scene ellipsoid_scene() {
+  return make_scene(uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 48, 96, 512),
+                    capture::ideal_rig(640, 480, 2.0));
+}
+
+CameraModel view(const CameraModel& intrinsics, double yaw_deg, double pitch_deg = 0,
+                 double distance = 1000) {
+  return capture::camera_at(intrinsics, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
+}
+
+// Head point seen at pixel (c, r) with depth z (mm) by camera `cam`.
+Eigen::Vector3d unproject(const CameraModel& cam, int c, int r, double z) {
+  double x = (c + 0.5 - cam.cx) / cam.fx, y = (r + 0.5 - cam.cy) / cam.fy;
+  if (cam.projection == capture::Projection::Perspective) x *= z, y *= z;
+  return cam.cam_from_head.inverse() * Eigen::Vector3d(x, y, z);
+}
+
+TEST(NewView, ReproducesTheFrontPhotoAtYawZero) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.source_weights = true;
+  const SynthesisResult r = synth.render(s.rig.front, o);
+  cv::Mat front_only;
+  cv::extractChannel(r.weights, front_only, 0);
+  front_only = (front_only == 255) & r.view.mask;
+  EXPECT_GT(cv::countNonZero(front_only), 50000);
+  EXPECT_GT(psnr(s.front, r.view.image, front_only), 45.0);  // same pixels, same camera
+}
+
+TEST(NewView, FortyFiveDegreesMatchesTheTrueView) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 45);
+  const RenderResult truth = render_once(s.textured, cam);
+  for (Blend b : {Blend::Pick, Blend::Weighted}) {
+    SynthesisOptions o;
+    o.blend = b;
+    const RenderResult r = synth.render(cam, o).view;
+    EXPECT_EQ(cv::countNonZero(r.mask != truth.mask), 0);
+    const double p = psnr(truth.image, r.image, truth.mask), q = ssim(truth.image, r.image, truth.mask);
+    std::printf("ellipsoid 45 deg %s: PSNR %.2f dB SSIM %.4f\n", b == Blend::Pick ? "pick" : "weighted", p, q);
+    EXPECT_GT(p, 36.0);
+    EXPECT_GT(q, 0.98);
+  }
+}
+
+TEST(NewView, PerspectiveRigMatchesTheTrueView) {
+  CameraModel k;
+  k.projection = capture::Projection::Perspective;
+  k.fx = k.fy = 1000;
+  capture::RigCalibration rig{view(k, 0, 0, 700), view(k, 90, 0, 700), "test"};
+  const Scene s = make_scene(uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 48, 96, 512), rig);
+  const CameraModel cam = view(k, 30, 10, 650);
+  const RenderResult truth = render_once(s.textured, cam);
+  const RenderResult r = synthesize_view(s.bare, s.rig, s.front, s.side, cam).view;
+  const double p = psnr(truth.image, r.image, truth.mask);
+  std::printf("perspective rig, yaw 30 pitch 10: PSNR %.2f dB\n", p);
+  EXPECT_GT(p, 29.0);
+}
+
+TEST(NewView, OccludedPointsNeverTakeColourFromTheHiddenPhoto) {
+  // A green sphere with a red ball in front of it (toward the front camera).
+  model::TriMesh big = uv_ellipsoid({0, 0, 0}, {60, 60, 60}, 32, 64);
+  const model::TriMesh ball = uv_ellipsoid({0, 0, 95}, {20, 20, 20}, 16, 32);
+  big.colors.assign(big.vertices.size(), {0, 1, 0});
+  const int offset = int(big.vertices.size());
+  for (const auto& v : ball.vertices) big.vertices.push_back(v), big.colors.push_back({1, 0, 0});
+  for (const auto& t : ball.triangles) big.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  const Scene s = make_scene(big, capture::ideal_rig(640, 480, 2.0));
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 60);
+  SynthesisOptions o;
+  o.source_weights = true;
+  const SynthesisResult r = synth.render(cam, o);
+  const cv::Mat zfront = synth.source_depth(0);
+  int hidden = 0;
+  for (int row = 0; row < cam.height; ++row)
+    for (int col = 0; col < cam.width; ++col) {
+      if (!r.view.mask.at<uchar>(row, col)) continue;
+      const Eigen::Vector3d p = unproject(cam, col, row, r.view.depth_mm.at<float>(row, col));
+      if (p.norm() > 61) continue;  // on the ball
+      const Eigen::Vector2d u = capture::project(s.rig.front, p);
+      const double z = capture::depth(s.rig.front, p);
+      bool clearly_hidden = true;  // every front depth within 3 px is > 5 mm in front of p
+      for (int dy = -3; dy <= 3; ++dy)
+        for (int dx = -3; dx <= 3; ++dx) {
+          const int c = int(u.x()) + dx, rr = int(u.y()) + dy;
+          clearly_hidden = clearly_hidden && zfront.at<float>(rr, c) < z - 5;
+        }
+      if (!clearly_hidden) continue;
+      ++hidden;
+      ASSERT_EQ(r.weights.at<cv::Vec3b>(row, col)[0], 0) << col << "," << row;
+      if (r.weights.at<cv::Vec3b>(row, col)[1] == 255)  // all from the side photo: green
+        ASSERT_LT(r.view.image.at<cv::Vec3b>(row, col)[2], 30) << "red at " << col << "," << row;
+    }
+  EXPECT_GT(hidden, 300);
+}
+
+TEST(NewView, WeightedBlendFollowsTheCosineWeights) {
+  const Scene s = make_scene(uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 48, 96, 256),
+                             capture::ideal_rig(400, 400, 2.0));
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 30);
+  SynthesisOptions o;
+  o.blend = Blend::Weighted;
+  o.source_weights = true;
+  const SynthesisResult r = synth.render(cam, o);
+  int checked = 0;
+  for (int row = 0; row < cam.height; row += 3)
+    for (int col = 0; col < cam.width; col += 3) {
+      if (!r.view.mask.at<uchar>(row, col)) continue;
+      const Eigen::Vector3d n = unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
+      const double c0 = n.z(), c1 = n.x();  // facing the front (+z) and side (+x) cameras
+      if (c0 < 0.3 || c1 < 0.3) continue;  // faceting moves small cosines a lot
+      const double want = c0 * c0 / (c0 * c0 + c1 * c1);
+      EXPECT_NEAR(r.weights.at<cv::Vec3b>(row, col)[0], 255 * want, 6) << col << "," << row;
+      ++checked;
+    }
+  EXPECT_GT(checked, 500);
+}
+
+TEST(NewView, PickSwitchesAtFortyFiveDegreesWithAFeatheredSeam) {
+  const Scene s = make_scene(uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 48, 96, 256),
+                             capture::ideal_rig(400, 400, 2.0));
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 45);
+  for (double feather : {0.0, 8.0}) {
+    SynthesisOptions o;
+    o.feather_deg = feather;
+    o.source_weights = true;
+    const SynthesisResult r = synth.render(cam, o);
+    const double band = std::sqrt(2.0) * feather * M_PI / 180;
+    int blended = 0, checked = 0;
+    for (int row = 0; row < cam.height; row += 2)
+      for (int col = 0; col < cam.width; col += 2) {
+        if (!r.view.mask.at<uchar>(row, col)) continue;
+        const Eigen::Vector3d n = unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
+        if (n.z() < 0.15 || n.x() < 0.15) continue;
+        const double d = n.z() - n.x();  // cos(front) - cos(side)
+        const int w = r.weights.at<cv::Vec3b>(row, col)[0];
+        if (d > band + 0.01) EXPECT_EQ(w, 255) << col << "," << row;
+        if (d < -band - 0.01) EXPECT_EQ(w, 0) << col << "," << row;
+        blended += w > 10 && w < 245;
+        ++checked;
+      }
+    EXPECT_GT(checked, 1000);
+    if (feather == 0) EXPECT_LT(blended, 40);  // only the pixels straddling the switch
+    else EXPECT_GT(blended, 200);
+  }
+}
+
+TEST(NewView, SurfaceNoPhotoSeesTakesTheFillColour) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, -135);  // from behind on the far side: no photo
+  SynthesisOptions o;
+  o.source_weights = true;
+  const SynthesisResult r = synth.render(cam, o);
+  const int c = cam.width / 2, row = cam.height / 2;
+  ASSERT_EQ(r.view.mask.at<uchar>(row, c), 255);
+  EXPECT_EQ(r.weights.at<cv::Vec3b>(row, c)[2], 255);
+  const cv::Vec3b fill = synth.colour_match().fill;
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.view.image.at<cv::Vec3b>(row, c)[k], fill[k], 1);
+}
+
+TEST(NewView, EqualisationRemovesABrightnessStepBetweenThePhotos) {
+  model::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
+  ball.colors.assign(ball.vertices.size(), {0.8, 0.6, 0.5});
+  Scene s = make_scene(ball, capture::ideal_rig(400, 400, 2.0));
+  s.side.convertTo(s.side, CV_8U, 0.6, 10);  // a darker, differently exposed side camera
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  EXPECT_GT(synth.colour_match().samples, 100);
+  EXPECT_GT(synth.colour_match().mean[0][0], synth.colour_match().mean[1][0] + 10);  // L
+  const CameraModel cam = view(s.rig.front, 45);
+  double step[2];
+  for (int eq = 0; eq < 2; ++eq) {
+    SynthesisOptions o;
+    o.equalize = eq == 1;
+    o.feather_deg = 0;
+    o.source_weights = true;
+    const SynthesisResult r = synth.render(cam, o);
+    cv::Mat w0;
+    cv::extractChannel(r.weights, w0, 0);
+    const cv::Scalar from_front = cv::mean(r.view.image, (w0 == 255) & r.view.mask);
+    const cv::Scalar from_side = cv::mean(r.view.image, (w0 == 0) & r.view.mask);
+    step[eq] = cv::norm(from_front - from_side);
+  }
+  std::printf("colour step between sources: raw %.1f, equalised %.1f\n", step[0], step[1]);
+  EXPECT_GT(step[0], 30);
+  EXPECT_LT(step[1], 4);
+}
+
+TEST(NewView, NewPhotosReplaceTheOldWithoutANewMesh) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 30);
+  const cv::Mat front2 = 255 - s.front, side2 = 255 - s.side;
+  const RenderResult before = synth.render(cam).view;
+  synth.set_photos(front2, side2);
+  const RenderResult after = synth.render(cam).view;
+  EXPECT_GT(cv::norm(before.image, after.image, cv::NORM_L1), 1e6);
+  const RenderResult fresh = synthesize_view(s.bare, s.rig, front2, side2, cam).view;
+  EXPECT_EQ(cv::norm(fresh.image, after.image, cv::NORM_INF), 0.0);
+  EXPECT_EQ(cv::norm(synth.render(cam).view.image, after.image, cv::NORM_INF), 0.0);
+}
+
+TEST(NewView, MeshBehindThePerspectiveViewGivesAnEmptyImage) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  CameraModel k;
+  k.projection = capture::Projection::Perspective;
+  k.fx = k.fy = 500;
+  CameraModel cam = view(k, 0, 0, 600);
+  cam.cam_from_head = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()) * cam.cam_from_head;  // look away
+  SynthesisOptions o;
+  o.background = cv::Scalar(1, 2, 3);
+  const SynthesisResult r = synth.render(cam, o);
+  EXPECT_EQ(cv::countNonZero(r.view.mask), 0);
+  EXPECT_EQ(r.view.image.at<cv::Vec3b>(10, 10), cv::Vec3b(1, 2, 3));
+}
+
+TEST(NewView, BadInputsThrow) {
+  const Scene s = ellipsoid_scene();
+  cv::Mat small;
+  cv::resize(s.side, small, cv::Size(320, 240));
+  EXPECT_THROW(ViewSynthesizer(s.bare, s.rig, s.front, small), std::invalid_argument);
+  EXPECT_THROW(ViewSynthesizer(s.bare, s.rig, cv::Mat(), s.side), std::invalid_argument);
+  cv::Mat f32;
+  s.front.convertTo(f32, CV_32F);
+  EXPECT_THROW(ViewSynthesizer(s.bare, s.rig, f32, s.side), std::invalid_argument);
+  EXPECT_THROW(ViewSynthesizer(model::TriMesh{}, s.rig, s.front, s.side), std::invalid_argument);
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  CameraModel cam = s.rig.front;
+  cam.width = 0;
+  EXPECT_THROW(synth.render(cam), std::invalid_argument);
+  cam.width = 100000;
+  EXPECT_THROW(synth.render(cam), std::invalid_argument);
+  SynthesisOptions o;
+  o.feather_deg = 90;
+  EXPECT_THROW(synth.render(s.rig.front, o), std::invalid_argument);
+  o = {};
+  o.weighted_power = 0;
+  EXPECT_THROW(synth.render(s.rig.front, o), std::invalid_argument);
+  EXPECT_THROW(synth.source_depth(2), std::invalid_argument);
+  EXPECT_THROW(synth.set_photos(s.front, small), std::invalid_argument);
+  EXPECT_NO_THROW(synth.render(s.rig.front));  // still usable
+}
+
+}  // namespace
+}  // namespace orthoface::render
