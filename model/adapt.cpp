@@ -110,7 +110,7 @@ Alignment align_base(const BaseMesh& base, const StereoData& data) {
     const double y = 0.5 * (data.y_top + data.y_bottom);
     const double base_y = (y - a.translation.y()) / a.scale.y();
     const auto z = profile_z_at(data, y);
-    if (z) a.translation.z() = *z - a.scale.z() * generic_face_depth(0.0, base_y);
+    if (z) a.translation.z() = *z - a.scale.z() * generic_contour(base_y, 0.0).y();
   }
   return a;
 }

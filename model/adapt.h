@@ -23,6 +23,8 @@ struct AdaptOptions {
   int blend_rings = 2;               // free vertices this close to a feature get smoothed
   int blend_iterations = 3;          // smoothing passes of their displacement
   int max_fold_passes = 20;          // relaxation passes to remove flipped triangles
+  double ear_margin_mm = 8.0;        // slices within the ear's heights (+ margin) take no
+                                     // silhouette data (the silhouette is the ear); < 0: use all
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
   void check() const;                // throws std::invalid_argument (k < 1, negative counts)
 };

@@ -14,15 +14,27 @@
 namespace orthoface::model {
 namespace {
 
+// True when the base slice is at ear height: there the front silhouette shows the ear, not the
+// face's extremal boundary that seed 004 assumes, so the slice's extremes get no silhouette data.
+bool at_ear_height(double base_y, double margin_mm) {
+  static const auto l = generic_landmarks();
+  const double top = l.at("ear_left_top").y(), tragus = l.at("ear_left_tragus").y();
+  const double lobe = tragus - 0.8 * (top - tragus);  // lobe below the tragus (average ear)
+  return base_y <= top + margin_mm && base_y >= lobe - margin_mm;
+}
+
 void add_boundary_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
-                          const StereoData& data, std::map<int, Eigen::Vector3d>& t) {
+                          const StereoData& data, const AdaptOptions& options,
+                          std::map<int, Eigen::Vector3d>& t) {
   for (size_t s = 0; s < base.slices.size(); ++s) {
     const int c = base.centre(static_cast<int>(s));
     const double y = aligned[c].y();
     if (y > data.y_top || y < data.y_bottom) continue;  // no data at this height
     const int right = base.slices[s].front(), left = base.slices[s].back();
-    if (auto x = silhouette_x_at(data, y, -1)) t[right] = {*x, y, aligned[right].z()};
-    if (auto x = silhouette_x_at(data, y, +1)) t[left] = {*x, y, aligned[left].z()};
+    const bool ears = options.ear_margin_mm >= 0 &&
+                      at_ear_height(base.slice_heights[s], options.ear_margin_mm);
+    if (auto x = silhouette_x_at(data, y, -1); x && !ears) t[right] = {*x, y, aligned[right].z()};
+    if (auto x = silhouette_x_at(data, y, +1); x && !ears) t[left] = {*x, y, aligned[left].z()};
     if (auto z = profile_z_at(data, y)) t[c] = {centre_x_at(data, y), y, *z};  // seed 004 eq. 1
   }
 }
@@ -34,7 +46,7 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
                                  std::vector<std::string>* warnings) {
   std::map<int, Eigen::Vector3d> t;
   std::map<int, std::string> names;
-  add_boundary_targets(base, aligned, data, t);
+  add_boundary_targets(base, aligned, data, options, t);
   std::vector<std::pair<int, Eigen::Vector3d>> no_depth;
   const std::set<std::string> ignored(options.ignored_features.begin(),
                                       options.ignored_features.end());

@@ -23,8 +23,8 @@ struct BaseMeshOptions {
 };
 
 // The generic face, front half of an average adult head in the head frame (mm, DESIGN.md),
-// sliced horizontally at characteristic heights (seed 004 §5). Built analytically here, so it
-// carries no third-party data.
+// sliced horizontally at characteristic heights (seed 004 §5). Built from the project's own
+// average head (no third-party data). Ear landmarks are not part of it.
 struct BaseMesh {
   TriMesh mesh;                          // with uvs (u = contour angle, v = height)
   std::vector<VertexGroup> groups;       // one per vertex
@@ -32,7 +32,7 @@ struct BaseMesh {
   std::vector<std::vector<int>> slices;  // per slice, top to bottom: vertex ids from the
                                          // subject's right extreme (-x) to the left (+x)
   std::vector<double> slice_heights;     // y (mm) of each slice
-  std::vector<std::string> slice_names;  // "" or the characteristic height it stands for
+  std::vector<std::string> slice_names;  // "" or the landmark whose height it stands for
   std::map<std::string, int> features;   // landmark name -> vertex id
   int centre(int slice) const { return slices[slice][slices[slice].size() / 2]; }
 };
@@ -41,11 +41,16 @@ struct BaseMesh {
 // Throws std::invalid_argument when options.check() fails.
 BaseMesh base_mesh(const BaseMeshOptions& options = {});
 
-// Depth z (mm) of the generic face surface at (x, y); the analytic shape the base mesh samples.
-// Outside the face's half-width it returns the silhouette depth.
-double generic_face_depth(double x_mm, double y_mm);
+// The generic head: the point (x, z) mm of its horizontal section at height y, on the ray
+// from (x 0, z 0) at `angle_rad` from +z toward +x (-pi/2 .. pi/2). Heights outside the base
+// mesh are clamped to it. The shape is the project's average simulated head (seed 0) sampled
+// offline into model/base_mesh_data.cpp.
+Eigen::Vector2d generic_contour(double y_mm, double angle_rad);
 
-// Half-width (mm) of the generic head's front silhouette at height y.
+// Half-width (mm) of the generic head's front-half section at height y (ray at 90 degrees).
 double generic_half_width(double y_mm);
+
+// The generic head's landmarks (head frame, mm), names from vision/landmarks.h.
+std::map<std::string, Eigen::Vector3d> generic_landmarks();
 
 }  // namespace orthoface::model

@@ -46,14 +46,21 @@ TEST(ReconstructionError, EmptyRegionAndBadMeshThrow) {
 }
 
 TEST(SignedDistances, SignFollowsNormalsAndFarPointsWork) {
-  const BaseMesh b = base_mesh();
-  const Eigen::Vector3d tip = b.mesh.vertices[b.centre(2)];  // flat forehead
-  const auto d = signed_distances({tip + Eigen::Vector3d(0, 0, 4), tip - Eigen::Vector3d(0, 0, 3),
-                                   Eigen::Vector3d(0, 0, 900)},
-                                  b.mesh);
-  EXPECT_NEAR(d[0], 4.0, 0.3);
-  EXPECT_NEAR(d[1], -3.0, 0.5);
-  EXPECT_NEAR(d[2], 900.0 - tip.z(), 1.0);
+  TriMesh plane;  // 100 x 100 mm square in z = 0, normal +z, split in 8 x 8 cells
+  for (int r = 0; r <= 8; ++r)
+    for (int c = 0; c <= 8; ++c) plane.vertices.emplace_back(-50 + 12.5 * c, -50 + 12.5 * r, 0);
+  for (int r = 0; r < 8; ++r)
+    for (int c = 0; c < 8; ++c) {
+      const int a = r * 9 + c;
+      plane.triangles.push_back({a, a + 1, a + 10});
+      plane.triangles.push_back({a, a + 10, a + 9});
+    }
+  const auto d = signed_distances({{3, 7, 4}, {-20, 10, -3}, {500, 0, 0}, {50, 50, 0}}, plane);
+  EXPECT_NEAR(d[0], 4.0, 1e-9);
+  EXPECT_NEAR(d[1], -3.0, 1e-9);
+  EXPECT_NEAR(std::abs(d[2]), 450.0, 1e-9);  // far outside the grid
+  EXPECT_NEAR(d[3], 0.0, 1e-9);              // on a corner
+  EXPECT_THROW(signed_distances({{0, 0, 0}}, TriMesh{}), std::invalid_argument);
 }
 
 TEST(FaceRegion, FromLandmarks) {

@@ -1,0 +1,268 @@
+// model_bench: speed of the adaptation and reconstruction accuracy on simulated subjects.
+//   model_bench speed                       adaptation time per call (target <= 1 ms), JSON
+//   model_bench gen-base FILE.cpp          writes model/base_mesh_data.cpp (the generic shape)
+//   model_bench accuracy [SUBJECTS] [PLOT]  relative error table, k and landmark sweeps, JSON;
+//                                           PLOT = PNG of the two sweeps (OpenCV drawing)
+// Observations come from the true masks and landmarks (sim/truth_observation.h), so the numbers
+// measure the model stage alone; the full pipeline (with vision) is measured by `orthoface eval`.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "model/adapt.h"
+#include "model/evaluate.h"
+#include "render/renderer.h"
+#include "sim/head.h"
+#include "sim/rig.h"
+#include "sim/truth_observation.h"
+
+namespace {
+
+using namespace orthoface;
+using Clock = std::chrono::steady_clock;
+
+struct Subject {
+  sim::Head head;
+  model::StereoData data;
+  model::FaceRegion region;
+};
+
+Subject make_subject(int seed, render::Renderer& renderer) {
+  Subject s;
+  s.head = sim::make_head(seed);
+  const sim::RigOptions rig_options;  // ideal rig
+  const sim::Capture cap = sim::simulate_capture(s.head, rig_options, renderer);
+  s.data = model::stereo_match(sim::truth_observation(cap), cap.nominal_rig);
+  s.region = model::face_region(s.head.landmarks);
+  return s;
+}
+
+double rel(const model::TriMesh& m, const Subject& s) {
+  return model::reconstruction_error(m, s.head.mesh, s.region).relative;
+}
+
+double adapt_rel(const model::BaseMesh& base, const Subject& s, const model::AdaptOptions& o) {
+  return rel(model::adapt(base, s.data, o).mesh, s);
+}
+
+// Order in which features are dropped for the landmark-count sweep (least important first).
+const std::vector<std::string> kDropOrder = {
+    "brow_left_outer", "brow_right_outer", "brow_left_inner", "brow_right_inner",
+    "eye_left_inner", "eye_right_inner", "cheek_left", "cheek_right", "alar_left",
+    "alar_right", "lip_lower", "lip_upper", "brow_left_center", "brow_right_center",
+    "eye_left_outer", "eye_right_outer", "mouth_left", "mouth_right", "nose_bridge",
+    "subnasale", "chin", "eye_left_center", "eye_right_center", "forehead_top", "chin_bottom",
+    "nose_tip"};
+
+void draw_plot(cv::Mat& img, cv::Rect area, const std::vector<double>& xs,
+               const std::vector<double>& ys, const std::string& title, const std::string& xlabel) {
+  cv::rectangle(img, area, cv::Scalar(0, 0, 0), 1);
+  double lo = *std::min_element(ys.begin(), ys.end()), hi = *std::max_element(ys.begin(), ys.end());
+  if (hi - lo < 1e-9) hi = lo + 1e-3;
+  const double pad = 0.1 * (hi - lo);
+  lo -= pad, hi += pad;
+  auto to_px = [&](double x, double y) {
+    return cv::Point(area.x + static_cast<int>((x - xs.front()) / (xs.back() - xs.front()) * area.width),
+                     area.y + area.height - static_cast<int>((y - lo) / (hi - lo) * area.height));
+  };
+  for (size_t i = 0; i < xs.size(); ++i) {
+    const cv::Point p = to_px(xs[i], ys[i]);
+    cv::circle(img, p, 4, cv::Scalar(200, 60, 20), cv::FILLED, cv::LINE_AA);
+    if (i) cv::line(img, to_px(xs[i - 1], ys[i - 1]), p, cv::Scalar(200, 60, 20), 2, cv::LINE_AA);
+    cv::putText(img, cv::format("%g", xs[i]), {p.x - 6, area.y + area.height + 18},
+                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0));
+  }
+  for (double f : {0.0, 0.5, 1.0}) {
+    const double y = lo + f * (hi - lo);
+    cv::putText(img, cv::format("%.3f%%", 100 * y), {area.x - 70, to_px(xs.front(), y).y + 4},
+                cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0));
+  }
+  cv::putText(img, title, {area.x, area.y - 10}, cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0));
+  cv::putText(img, xlabel, {area.x + area.width / 2 - 60, area.y + area.height + 40},
+              cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0));
+}
+
+
+// Offline generator of model/base_mesh_data.cpp: the average sim head (seed 0) sliced every
+// kGenStepMm between forehead_top and chin_bottom; each slice's front half sampled by rays from
+// the point (x 0, z 0) in the slice plane at angles -90..90 degrees (farthest crossing).
+constexpr double kGenStepMm = 3.0;
+constexpr int kGenHalfRays = 46;  // rays from 0 to 90 degrees, inclusive
+
+std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> slice_segments(const model::TriMesh& m,
+                                                                        double y) {
+  std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
+  for (const auto& f : m.triangles) {
+    std::vector<Eigen::Vector2d> pts;
+    for (int e = 0; e < 3; ++e) {
+      const Eigen::Vector3d& a = m.vertices[f[e]];
+      const Eigen::Vector3d& b = m.vertices[f[(e + 1) % 3]];
+      if ((a.y() - y) * (b.y() - y) > 0 || a.y() == b.y()) continue;
+      const double t = (y - a.y()) / (b.y() - a.y());
+      const Eigen::Vector3d p = a + t * (b - a);
+      pts.emplace_back(p.x(), p.z());
+    }
+    if (pts.size() >= 2) segs.push_back({pts[0], pts[1]});
+  }
+  return segs;
+}
+
+double farthest_hit(const std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& segs,
+                    const Eigen::Vector2d& dir) {
+  double best = 0;
+  for (const auto& [a, b] : segs) {
+    const Eigen::Vector2d e = b - a;
+    const double den = dir.x() * (-e.y()) - dir.y() * (-e.x());
+    if (std::abs(den) < 1e-12) continue;
+    // Solve t * dir = a + u * e  ->  t * dir - u * e = a.
+    const double t = (a.x() * (-e.y()) - a.y() * (-e.x())) / den;
+    const double u = (dir.x() * a.y() - dir.y() * a.x()) / den;
+    if (u >= 0 && u <= 1 && t > best) best = t;
+  }
+  return best;
+}
+
+int run_gen_base(const std::string& path) {
+  const sim::Head head = sim::make_head(0);
+  const double top = head.landmarks.at("forehead_top").y();
+  const double bottom = head.landmarks.at("chin_bottom").y();
+  const int rows = static_cast<int>(std::ceil((top - bottom) / kGenStepMm)) + 1;
+  FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) throw std::runtime_error("cannot write " + path);
+  std::fprintf(f, "// Generated by `model_bench gen-base` from the average simulated head (seed 0).\n"
+                  "// Do not edit: regenerate. Head frame, mm.\n"
+                  "#include \"model/base_mesh_data.h\"\n\nnamespace orthoface::model::detail {\n\n");
+  std::fprintf(f, "const int kGenericRows = %d;\nconst int kGenericHalfRays = %d;\n", rows, kGenHalfRays);
+  std::fprintf(f, "const double kGenericTop = %.4f;\nconst double kGenericBottom = %.4f;\n\n", top, bottom);
+  std::fprintf(f, "// Per row (top to bottom), per ray angle 0..90 degrees: x, z of the surface.\n"
+                  "const double kGenericContour[%d][%d][2] = {\n", rows, kGenHalfRays);
+  for (int r = 0; r < rows; ++r) {
+    const double y = top - (top - bottom) * r / (rows - 1);
+    const auto segs = slice_segments(head.mesh, std::clamp(y, bottom + 0.05, top - 0.05));
+    std::fprintf(f, "    {");
+    for (int i = 0; i < kGenHalfRays; ++i) {
+      const double phi = M_PI / 2 * i / (kGenHalfRays - 1);
+      const Eigen::Vector2d dir(std::sin(phi), std::cos(phi));
+      const double t = farthest_hit(segs, dir);
+      std::fprintf(f, "{%.2f, %.2f}%s", t * dir.x(), t * dir.y(), i + 1 < kGenHalfRays ? ", " : "");
+      if (i % 6 == 5) std::fprintf(f, "\n     ");
+    }
+    std::fprintf(f, "},\n");
+  }
+  std::fprintf(f, "};\n\nconst GenericLandmarkPosition kGenericLandmarks[] = {\n");
+  int n = 0;
+  for (const auto& [name, p] : head.landmarks) {
+    std::fprintf(f, "    {\"%s\", %.3f, %.3f, %.3f},\n", name.c_str(), p.x(), p.y(), p.z());
+    ++n;
+  }
+  std::fprintf(f, "};\nconst int kGenericLandmarkCount = %d;\n\n}  // namespace orthoface::model::detail\n", n);
+  std::fclose(f);
+  return 0;
+}
+
+int run_speed() {
+  render::Renderer renderer;
+  const model::BaseMesh base = model::base_mesh();
+  const Subject s = make_subject(3, renderer);
+  nlohmann::json out;
+  for (auto m : {model::AdaptMethod::Nnwa, model::AdaptMethod::Interpolate}) {
+    model::AdaptOptions o;
+    o.method = m;
+    const int reps = 200;
+    const auto t0 = Clock::now();
+    for (int i = 0; i < reps; ++i) model::adapt(base, s.data, o);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / reps;
+    out[m == model::AdaptMethod::Nnwa ? "adapt_nnwa_ms" : "adapt_interpolate_ms"] = ms;
+  }
+  const auto t0 = Clock::now();
+  for (int i = 0; i < 50; ++i) model::base_mesh();
+  out["base_mesh_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / 50;
+  out["vertices"] = base.mesh.vertices.size();
+  out["triangles"] = base.mesh.triangles.size();
+  out["target_adapt_ms"] = 1.0;
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+int run_accuracy(int subjects, const std::string& plot) {
+  render::Renderer renderer;
+  const model::BaseMesh base = model::base_mesh();
+  std::vector<Subject> all;
+  for (int seed = 1; seed <= subjects; ++seed) all.push_back(make_subject(seed, renderer));
+  nlohmann::json out, table = nlohmann::json::array();
+  double sum[4] = {0, 0, 0, 0};
+  int nnwa_beats_procrustes = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    const Subject& s = all[i];
+    model::AdaptOptions interp;
+    interp.method = model::AdaptMethod::Interpolate;
+    const double e[4] = {adapt_rel(base, s, {}), adapt_rel(base, s, interp),
+                         rel(model::procrustes_fit(base, s.data), s), rel(base.mesh, s)};
+    for (int m = 0; m < 4; ++m) sum[m] += e[m];
+    nnwa_beats_procrustes += e[0] < e[2];
+    table.push_back({{"subject", static_cast<int>(i) + 1}, {"nnwa", e[0]}, {"interpolate", e[1]},
+                     {"procrustes", e[2]}, {"unadapted", e[3]}});
+  }
+  out["observation"] = "truth (true masks and landmarks, ideal rig)";
+  out["per_subject_relative_error"] = table;
+  out["mean_relative_error"] = {{"nnwa", sum[0] / subjects}, {"interpolate", sum[1] / subjects},
+                                {"procrustes", sum[2] / subjects}, {"unadapted", sum[3] / subjects}};
+  out["nnwa_below_procrustes"] = std::to_string(nnwa_beats_procrustes) + "/" + std::to_string(subjects);
+  std::vector<double> ks, k_err, counts, count_err;
+  for (int k = 1; k <= 10; ++k) {
+    model::AdaptOptions o;
+    o.k = k;
+    double e = 0;
+    for (const Subject& s : all) e += adapt_rel(base, s, o) / subjects;
+    ks.push_back(k), k_err.push_back(e);
+    out["k_sweep"].push_back({{"k", k}, {"nnwa", e}});
+  }
+  for (size_t drop = 0; drop <= kDropOrder.size(); drop += 2) {
+    model::AdaptOptions o;
+    o.ignored_features.assign(kDropOrder.begin(), kDropOrder.begin() + drop);
+    double e = 0, landmarks = 0;
+    for (const Subject& s : all) {
+      const auto r = model::adapt(base, s.data, o);
+      e += rel(r.mesh, s) / subjects;
+      landmarks += static_cast<double>(r.targets.vertices.size()) / subjects;
+    }
+    const int features = static_cast<int>(kDropOrder.size() - drop);
+    counts.insert(counts.begin(), features), count_err.insert(count_err.begin(), e);
+    out["landmark_sweep"].push_back({{"features", features}, {"landmarks_with_boundary", landmarks}, {"nnwa", e}});
+  }
+  if (!plot.empty()) {
+    cv::Mat img(420, 1000, CV_8UC3, cv::Scalar(255, 255, 255));
+    draw_plot(img, {90, 40, 360, 300}, ks, k_err, "NNWA relative error vs k", "k neighbours");
+    draw_plot(img, {590, 40, 360, 300}, counts, count_err, "NNWA relative error vs features",
+              "named features used");
+    cv::imwrite(plot, img);
+    out["plot"] = plot;
+  }
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    const std::string mode = argc > 1 ? argv[1] : "speed";
+    if (mode == "speed") return run_speed();
+    if (mode == "gen-base" && argc > 2) return run_gen_base(argv[2]);
+    if (mode == "accuracy")
+      return run_accuracy(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
+    std::cerr << "usage: model_bench speed | accuracy [SUBJECTS] [PLOT.png]\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
