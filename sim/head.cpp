@@ -47,7 +47,7 @@ void HeadParams::check() const {
   for (int k = 0; k < 3; ++k) check_range("iris_rgb", iris_rgb[k], 0, 1);
   check_range("asymmetry", asymmetry, 0, 1);
   // Features must fit on the face: the eyes inside the head, the jaw inside the skull.
-  if (eye_spacing + eye_width > head_width - 20)
+  if (eye_spacing + eye_width > 0.75 * head_width)
     throw std::invalid_argument("HeadParams: eyes (eye_spacing + eye_width) wider than the head");
   if (jaw_width > head_width)
     throw std::invalid_argument("HeadParams: jaw_width larger than head_width");

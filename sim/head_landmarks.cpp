@@ -147,6 +147,7 @@ LandmarkParams landmark_params(const HeadSurface& s, const HeadParametrization& 
   put("forehead_top", theta_mid, a.y_hair);
   out.key_y.push_back(a.y_eye);
   out.key_y.push_back(a.y_mouth);
+  out.key_y.push_back(a.y_tragus);  // the origin lies between the tragi exactly
   for (int side : {1, -1}) {
     const std::string lr = side > 0 ? "left" : "right";
     const double xe = side > 0 ? a.x_eye_left : a.x_eye_right;

@@ -151,8 +151,8 @@ model::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param,
         p.x() = -p.x();
       } else {
         p = s.point(HeadParametrization::theta(u), y);
+        if (cap) p = Eigen::Vector3d(0.5 * p.x(), p.y(), 0.5 * p.z());
       }
-      if (cap) p = Eigen::Vector3d(0.5 * p.x(), p.y(), 0.5 * p.z());
       m.vertices.push_back(p);
       m.uvs.push_back({u, 1.0 - t});
     }
