@@ -20,7 +20,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct ProcessResult {
   int code = -1;
   std::string out, err;
 };
@@ -31,12 +31,12 @@ std::string slurp(const fs::path& p) {
 }
 
 // Runs `orthoface <args>` with stdout / stderr captured in `work`.
-Run run(const std::string& args, const fs::path& work) {
+ProcessResult run(const std::string& args, const fs::path& work) {
   const fs::path o = work / "stdout.txt", e = work / "stderr.txt";
   const std::string cmd = std::string("cd '") + work.string() + "' && '" + ORTHOFACE_BINARY +
                           "' " + args + " >'" + o.string() + "' 2>'" + e.string() + "'";
   const int status = std::system(cmd.c_str());
-  Run r;
+  ProcessResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.out = slurp(o);
   r.err = slurp(e);
@@ -59,7 +59,7 @@ std::vector<std::string> files_in(const fs::path& dir) {
 
 TEST(SimulateCommand, WritesTheFullTruthFolder) {
   const fs::path work = testing::temp_dir("app_simulate_ok");
-  const Run r = run("simulate --subject 1 --out sim1 --size 320x240 --px-per-mm 0.8", work);
+  const ProcessResult r = run("simulate --subject 1 --out sim1 --size 320x240 --px-per-mm 0.8", work);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(count_lines(r.out), 1) << r.out;
   EXPECT_TRUE(r.err.empty()) << r.err;
@@ -80,7 +80,9 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
   EXPECT_DOUBLE_EQ(rig.front.fx, 0.8);
   // The nose tip is on the head in both photos (mask) at the row the truth gives, in both views.
   const auto& nose = truth.landmarks.at("nose_tip");
-  EXPECT_TRUE(nose.visible_front && nose.visible_side);
+  EXPECT_TRUE(nose.visible_front);
+  EXPECT_TRUE(truth.landmarks.at("eye_left_outer").visible_side);    // side camera at +x
+  EXPECT_FALSE(truth.landmarks.at("eye_right_outer").visible_side);  // behind the head
   EXPECT_NEAR(nose.front_px.y(), nose.side_px.y(), 1e-9);
   const cv::Mat mask = cv::imread((dir / "side_mask.png").string(), cv::IMREAD_GRAYSCALE);
   EXPECT_EQ(mask.at<uchar>(int(nose.side_px.y()), int(nose.side_px.x()) + 1), 255);
@@ -92,7 +94,7 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
 TEST(SimulateCommand, OptionsChangeThePhotos) {
   const fs::path work = testing::temp_dir("app_simulate_options");
   ASSERT_EQ(run("simulate --subject 2 --out a --size 200x150 --px-per-mm 0.5", work).code, 0);
-  const Run r = run("simulate --subject 2 --out b --size 200x150 --rig perspective --focal 500 "
+  const ProcessResult r = run("simulate --subject 2 --out b --size 200x150 --rig perspective --focal 500 "
                     "--noise 4 --blur 1 --background cluttered --light 0.4,0.8,1,0,-1 "
                     "--misalign 2,3 --seed 5",
                     work);
@@ -109,7 +111,7 @@ TEST(SimulateCommand, OptionsChangeThePhotos) {
 
 TEST(SimulateCommand, HelpListsTheFlags) {
   const fs::path work = testing::temp_dir("app_simulate_help");
-  const Run r = run("simulate --help", work);
+  const ProcessResult r = run("simulate --help", work);
   EXPECT_EQ(r.code, 0);
   for (const char* flag : {"--subject", "--out", "--rig", "--size", "--noise", "--blur",
                            "--background", "--light", "--scan"})
@@ -145,7 +147,7 @@ TEST(SimulateCommand, BadInputGivesOneErrorLineAndNoFiles) {
       "simulate --subject 1 --out out --distance 10 --rig perspective",
   };
   for (const std::string& c : cases) {
-    const Run r = run(c, work);
+    const ProcessResult r = run(c, work);
     EXPECT_NE(r.code, 0) << c;
     EXPECT_EQ(count_lines(r.err), 1) << c << "\n" << r.err;
     EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << c << "\n" << r.err;
@@ -158,7 +160,7 @@ TEST(SimulateCommand, ScanRendersWhenTheDataIsPresent) {
   const std::string dir = testing::shared_data("lee_perry_smith_head");
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/lee_perry_smith_head";
   const fs::path work = testing::temp_dir("app_simulate_scan");
-  const Run r = run("simulate --scan lee-perry-smith --data '" + std::string(ORTHOFACE_DATA_DIR) +
+  const ProcessResult r = run("simulate --scan lee-perry-smith --data '" + std::string(ORTHOFACE_DATA_DIR) +
                         "' --out scan --size 320x240 --px-per-mm 0.8",
                     work);
   if (r.code != 0 && r.err.find("no scan loader") != std::string::npos)
