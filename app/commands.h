@@ -5,6 +5,7 @@ namespace orthoface::app {
 // One function per subcommand, each in its own file: argv[1] is the command name.
 // Each returns 0 on success; errors are thrown and reported by main() as one "error:" line.
 int run_version(int argc, char** argv);
+int run_detect(int argc, char** argv);
 int run_simulate(int argc, char** argv);
 int run_demo(int argc, char** argv);
 

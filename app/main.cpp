@@ -18,6 +18,7 @@ struct Entry {
 constexpr Entry kCommands[] = {
     {"version", orthoface::app::run_version, "print the version and the libraries in use"},
     {"demo", orthoface::app::run_demo, "simulated heads through the rig, true views, contact sheet"},
+    {"detect", orthoface::app::run_detect, "find silhouette, profile and facial features in a front + side pair"},
     {"simulate", orthoface::app::run_simulate, "render a simulated head through the two-camera rig, with its truth"},
 };
 

@@ -90,6 +90,19 @@ cv::Point2d side_protrusions(const RowExtent& e, int r0, int r1) {
   return {peak[0], peak[1]};
 }
 
+double neck_offset(const RowExtent& e, double h) {
+  if (e.top < 0) return 0;
+  double wmax = -1, head_mid = 0;
+  for (int r = e.top; r <= std::min(e.bottom, int(e.top + 0.8 * h)); ++r)
+    if (e.left[r] >= 0 && e.right[r] - e.left[r] > wmax)
+      wmax = e.right[r] - e.left[r], head_mid = 0.5 * (e.left[r] + e.right[r]);
+  double s = 0;
+  int n = 0;
+  for (int r = int(e.top + 1.0 * h); r <= std::min(e.bottom, int(e.top + 1.15 * h)); ++r)
+    if (r >= 0 && e.left[r] >= 0) s += 0.5 * (e.left[r] + e.right[r]), ++n;
+  return n ? s / n - head_mid : 0.0;
+}
+
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& p, double step) {
   if (!(step > 0)) throw std::invalid_argument("resample: step must be > 0");
   if (p.size() < 2) return p;

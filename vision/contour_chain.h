@@ -24,6 +24,11 @@ std::vector<cv::Point2d> front_chain(const cv::Mat& mask, int stop_row);
 // makes one side's peak large; a frontal face gives two small, similar peaks.
 cv::Point2d side_protrusions(const RowExtent& extent, int r0, int r1);
 
+// Horizontal offset (px) of the neck's middle (rows top + [1.0, 1.15] * head_height) from the
+// middle of the widest head row above it: near 0 in a front view, large in a profile (the neck
+// stands behind the face). 0 when those rows are empty.
+double neck_offset(const RowExtent& extent, double head_height);
+
 // Polyline resampled at equal arc-length steps of `step_px` (> 0).
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& polyline, double step_px);
 

@@ -45,6 +45,34 @@ CentreLine centre_from_pairs(const std::vector<std::pair<cv::Point2d, cv::Point2
   return c;
 }
 
+// Face side x at row y with the ear removed: a quadratic x(row) fitted to the boundary around
+// y, re-weighted so that outward bumps (the ears) stop pulling it out.
+double cheek_x(const std::vector<cv::Point2d>& side, double y, double H, int outward) {
+  std::vector<cv::Point2d> pts;
+  for (const auto& p : side)
+    if (std::abs(p.y - y) < 0.22 * H) pts.push_back(p);
+  if (pts.size() < 6) return boundary_x(side, y);
+  std::vector<double> w(pts.size(), 1.0);
+  cv::Mat coef = cv::Mat::zeros(3, 1, CV_64F);
+  for (int it = 0; it < 6; ++it) {
+    cv::Mat A(int(pts.size()), 3, CV_64F), b(int(pts.size()), 1, CV_64F);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double u = (pts[i].y - y) / H;
+      A.at<double>(int(i), 0) = w[i];
+      A.at<double>(int(i), 1) = w[i] * u;
+      A.at<double>(int(i), 2) = w[i] * u * u;
+      b.at<double>(int(i)) = w[i] * pts[i].x;
+    }
+    cv::solve(A, b, coef, cv::DECOMP_SVD);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double u = (pts[i].y - y) / H;
+      const double r = outward * (pts[i].x - (coef.at<double>(0) + coef.at<double>(1) * u + coef.at<double>(2) * u * u));
+      w[i] = r > 1.0 ? 0.02 : 1.0;
+    }
+  }
+  return coef.at<double>(0);
+}
+
 }  // namespace
 
 cv::Point2d mirror_point(const CentreLine& line, cv::Point2d p) {
@@ -102,8 +130,8 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
     if (it == rows.end()) continue;
     out.features[n] = make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
   }
-  out.features["cheek_right"] = make({boundary_x(fb.left, r_tip), r_tip}, fb.confidence, "boundary");
-  out.features["cheek_left"] = make({boundary_x(fb.right, r_tip), r_tip}, fb.confidence, "boundary");
+  out.features["cheek_right"] = make({cheek_x(fb.left, r_tip, H, -1), r_tip}, fb.confidence, "boundary-without-ear");
+  out.features["cheek_left"] = make({cheek_x(fb.right, r_tip, H, 1), r_tip}, fb.confidence, "boundary-without-ear");
   mirror_missing(out);
   return out;
 }

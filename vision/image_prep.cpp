@@ -1,6 +1,7 @@
 #include "vision/image_prep.h"
 
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -27,11 +28,34 @@ cv::Mat to_depth8(const cv::Mat& image) {
   return out;
 }
 
+// A JPEG must end with its EOI marker and a PNG with its IEND chunk; decoders accept truncated
+// files silently and return half-grey images otherwise.
+void check_not_truncated(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  std::string head(8, '\0');
+  f.read(head.data(), 8);
+  f.seekg(0, std::ios::end);
+  const std::streamoff size = f.tellg();
+  if (size < 16) return;
+  std::string tail(16, '\0');
+  f.seekg(size - 16);
+  f.read(tail.data(), 16);
+  const bool jpeg = uchar(head[0]) == 0xFF && uchar(head[1]) == 0xD8;
+  const bool png = head.compare(1, 3, "PNG") == 0;
+  const std::string trimmed = tail.substr(0, tail.find_last_not_of('\0') + 1);
+  if (jpeg && !(trimmed.size() >= 2 && uchar(trimmed[trimmed.size() - 2]) == 0xFF &&
+                uchar(trimmed.back()) == 0xD9))
+    throw std::runtime_error("image '" + path + "': truncated JPEG (no end-of-image marker)");
+  if (png && tail.find("IEND") == std::string::npos)
+    throw std::runtime_error("image '" + path + "': truncated PNG (no IEND chunk)");
+}
+
 }  // namespace
 
 cv::Mat read_image(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("image '" + path + "': no such file");
+  check_not_truncated(path);
   cv::Mat raw;
   try {
     raw = cv::imread(path, cv::IMREAD_UNCHANGED);

@@ -26,7 +26,8 @@ void check_not_profile(const cv::Mat& mask, std::vector<std::string>& warn) {
   const double H = 1.3 * w;
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * H), int(e.top + 0.85 * H));
   const double hi = std::max(p.x, p.y), lo = std::max(1.0, std::min(p.x, p.y));
-  if (hi > 0.08 * H && hi / lo > 3.0)
+  const double neck = std::abs(neck_offset(e, H / 1.2));
+  if (hi > 0.04 * H && hi / lo > 1.6 && neck > 0.025 * H)
     throw std::invalid_argument("front image looks like a profile (side view): one silhouette "
                                 "side has a nose-like bump of " + std::to_string(int(hi)) +
                                 " px, the other " + std::to_string(int(lo)) +

@@ -31,8 +31,9 @@ std::vector<float> border_histogram(const cv::Mat& bgr, double fraction) {
   const int side_rows = int(bgr.rows * 0.75);
   for (int r = 0; r < bgr.rows; ++r) {
     const cv::Vec3b* p = bgr.ptr<cv::Vec3b>(r);
-    if (r < bh) {
-      for (int c = 0; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
+    if (r < bh) {  // top strip: outer thirds only, the crown may reach the top centre
+      for (int c = 0; c < bgr.cols / 3; c += 2) h[bin_of(p[c])] += 1;
+      for (int c = bgr.cols - bgr.cols / 3; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
     } else if (r < side_rows) {
       for (int c = 0; c < bw; c += 2) h[bin_of(p[c])] += 1;
       for (int c = bgr.cols - bw; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;

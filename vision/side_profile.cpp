@@ -67,9 +67,13 @@ bool profile_faces_left(const cv::Mat& mask, double* confidence) {
   if (confidence) *confidence = 0;
   if (e.top < 0) return true;
   const double h = head_height_estimate(e);
+  // Two cues: the nose bump sticks out on the face side, and the neck stands behind the face.
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * h), int(e.top + 0.85 * h));
-  if (confidence) *confidence = std::clamp(std::abs(p.x - p.y) / std::max(4.0, 0.04 * h), 0.0, 1.0);
-  return p.x >= p.y;
+  const double bump = (p.x - p.y) / std::max(4.0, 0.04 * h);
+  const double neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
+  const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0);
+  if (confidence) *confidence = std::clamp(std::abs(vote) / 2.0, 0.0, 1.0);
+  return vote >= 0;
 }
 
 SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat& mask,

@@ -12,7 +12,7 @@
 namespace orthoface::vision {
 
 struct SideProfileOptions {
-  double control_spacing_px = 9.0;  // arc length between the profile model's control points
+  double control_spacing_px = 5.0;  // arc length between the profile model's control points
   ProfileFitOptions fit;            // the iterative fit; num_control/samples are set from length
   void check() const;               // throws std::invalid_argument on out-of-range values
 };

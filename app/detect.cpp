@@ -1,0 +1,83 @@
+// orthoface detect: front + side photos -> observation.json and overlay PNGs (vision layer).
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "vision/image_prep.h"
+#include "vision/observation_io.h"
+#include "vision/observe.h"
+#include "vision/overlay.h"
+
+namespace orthoface::app {
+
+namespace {
+
+const Command kDetect{
+    "detect",
+    "Find the face silhouette, side profile, centre line and facial features (seed 004 §4).",
+    "orthoface detect --front F --side S --out DIR [options]",
+    {{"front", true, "F  front photo (any size; grey / 16-bit / RGBA are converted)"},
+     {"side", true, "S  side photo, 90 deg from the front, same height"},
+     {"out", true, "DIR  output folder: observation.json, overlay_front.png, overlay_side.png"},
+     {"background-front", true, "F  empty-scene frame of the front camera (background difference)"},
+     {"background-side", true, "F  empty-scene frame of the side camera"},
+     {"side-camera", true, "left|right  where the side camera stands (default: decided from the image)"},
+     {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
+    0};
+
+void write_png(const cv::Mat& image, const std::filesystem::path& path) {
+  const std::string tmp = path.string() + ".tmp.png";
+  if (!cv::imwrite(tmp, image)) throw std::runtime_error("cannot write '" + path.string() + "'");
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace
+
+int run_detect(int argc, char** argv) {
+  const Args args = parse_args(kDetect, argc, argv);
+  if (args.help) {
+    print_help(kDetect);
+    return 0;
+  }
+  for (const char* f : {"front", "side", "out"})
+    if (!args.has(f)) throw std::invalid_argument(std::string("detect: --") + f + " is required");
+  vision::ObserveOptions options;
+  if (args.has("side-camera")) {
+    const std::string s = args.get("side-camera");
+    if (s != "left" && s != "right")
+      throw std::invalid_argument("--side-camera: expected left or right, got '" + s + "'");
+    options.side_camera = s == "left" ? vision::SideCamera::Left : vision::SideCamera::Right;
+  }
+  options.use_haar = args.has("haar");
+  const cv::Mat front = vision::read_image(args.get("front"));
+  const cv::Mat side = vision::read_image(args.get("side"));
+  if (args.has("background-front")) options.background_front = vision::read_image(args.get("background-front"));
+  if (args.has("background-side")) options.background_side = vision::read_image(args.get("background-side"));
+  options.check();
+  const vision::FaceObservation obs = vision::observe(front, side, options);
+  const std::filesystem::path out = args.get("out");
+  prepare_output_dir(out.string());
+  vision::write_observation(obs, (out / "observation.json").string());
+  write_png(vision::overlay_front(front, obs), out / "overlay_front.png");
+  write_png(vision::overlay_side(side, obs), out / "overlay_side.png");
+  std::string missing;
+  const bool complete = vision::is_complete(obs, &missing);
+  std::cout << "detect: front boundary " << obs.front.boundary.size() << " points, side profile "
+            << obs.side.boundary.size() << " points, " << obs.front.features.size() << " + "
+            << obs.side.features.size() << " features, " << obs.warnings.size() << " warnings -> "
+            << (out / "observation.json").string() << "\n";
+  for (const auto& w : obs.warnings) std::cout << "  warning: " << w << "\n";
+  if (obs.front.boundary.empty() && obs.side.boundary.empty()) {
+    std::cerr << "error: no face found in '" << args.get("front") << "' nor in '" << args.get("side")
+              << "' (report written to " << (out / "observation.json").string() << ")\n";
+    return 1;
+  }
+  if (!complete) std::cout << "  incomplete: " << missing << "\n";
+  return 0;
+}
+
+}  // namespace orthoface::app

@@ -1,0 +1,123 @@
+// observe() against the sim rig's ground truth (ideal rig, 640x480) and on bad input.
+#include <iostream>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "sim/head.h"
+#include "sim/rig.h"
+#include "tests/vision/sim_eval.h"
+#include "vision/observe.h"
+
+namespace ov = orthoface::vision;
+namespace sim = orthoface::sim;
+
+namespace {
+
+const sim::Capture& capture(int seed) {
+  static std::map<int, sim::Capture> cache;
+  auto it = cache.find(seed);
+  if (it == cache.end())
+    it = cache.emplace(seed, sim::simulate_capture(sim::make_head(sim::head_params(seed)), {})).first;
+  return it->second;
+}
+
+}  // namespace
+
+TEST(Observe, SimSubjectsMeetAccuracyTargets) {
+  for (int seed : {0, 1}) {
+    const sim::Capture& cap = capture(seed);
+    const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
+    const auto s = orthoface::testing::score(obs, cap);
+    EXPECT_TRUE(s.missing.empty()) << "seed " << seed << " missing " << s.missing.size();
+    EXPECT_LE(orthoface::testing::median(orthoface::testing::all_errors(s)), 2.0) << "seed " << seed;
+    EXPECT_GE(s.boundary_err, 0);
+    EXPECT_LE(s.boundary_err, 1.5) << "seed " << seed;
+    EXPECT_GE(s.profile_err, 0);
+    EXPECT_LE(s.profile_err, 1.5) << "seed " << seed;
+    EXPECT_TRUE(obs.side_faces_left);
+    EXPECT_NEAR(obs.roll_rad, 0.0, 0.03);
+    EXPECT_NEAR(obs.centre_x_px, 320.0, 2.0);  // the sim head is centred
+  }
+}
+
+TEST(Observe, MirroredSideImageIsDetected) {
+  const sim::Capture& cap = capture(0);
+  cv::Mat flipped;
+  cv::flip(cap.side, flipped, 1);
+  const ov::FaceObservation obs = ov::observe(cap.front, flipped);
+  EXPECT_FALSE(obs.side_faces_left);
+  const auto& tip = obs.side.features.at("nose_tip").px;
+  const auto& truth = cap.landmarks.at("nose_tip").side_px;
+  EXPECT_NEAR(tip.x, cap.side.cols - truth.x(), 3.0);
+  EXPECT_NEAR(tip.y, truth.y(), 3.0);
+  // The flag overrides the image: claiming the camera stands on the left keeps the original way.
+  ov::ObserveOptions o;
+  o.side_camera = ov::SideCamera::Left;
+  EXPECT_TRUE(ov::observe(cap.front, cap.side, o).side_faces_left);
+}
+
+TEST(Observe, BackgroundFrameOnClutteredScene) {
+  sim::RigOptions ro;
+  ro.background = sim::BackgroundKind::Cluttered;
+  ro.seed = 3;
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(2)), ro);
+  ov::ObserveOptions o;
+  o.background_front = cap.background_front;
+  o.background_side = cap.background_side;
+  const ov::FaceObservation obs = ov::observe(cap.front, cap.side, o);
+  const auto s = orthoface::testing::score(obs, cap);
+  EXPECT_LE(s.boundary_err, 1.5);
+  EXPECT_LE(s.profile_err, 1.5);
+}
+
+TEST(Observe, BadInputs) {
+  const sim::Capture& cap = capture(0);
+  EXPECT_THROW(ov::observe(cv::Mat(), cap.side), std::invalid_argument);
+  EXPECT_THROW(ov::observe(cap.front, cv::Mat(8, 8, CV_8UC3)), std::invalid_argument);
+  cv::Mat small;
+  cv::resize(cap.side, small, {}, 0.4, 0.4);
+  EXPECT_THROW(ov::observe(cap.front, small), std::invalid_argument);  // sizes too different
+  try {
+    ov::observe(cap.side, cap.side);  // a profile given as the front photo
+    ADD_FAILURE() << "profile accepted as front";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("profile"), std::string::npos) << e.what();
+  }
+  ov::ObserveOptions o;
+  o.background_front = cv::Mat(10, 10, CV_8UC3);
+  EXPECT_THROW(ov::observe(cap.front, cap.side, o), std::invalid_argument);
+  // Grey and 16-bit photos are converted, not refused.
+  cv::Mat g, g16;
+  cv::cvtColor(cap.front, g, cv::COLOR_BGR2GRAY);
+  g.convertTo(g16, CV_16U, 257);
+  EXPECT_FALSE(ov::observe(g16, cap.side).front.boundary.empty());
+}
+
+TEST(Observe, NoFaceTwoFacesAndCutOff) {
+  const sim::Capture& cap = capture(0);
+  const cv::Mat blank(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+  const ov::FaceObservation none = ov::observe(blank, blank);
+  EXPECT_TRUE(none.front.boundary.empty());
+  EXPECT_TRUE(none.side.boundary.empty());
+  EXPECT_FALSE(ov::is_complete(none));
+  ASSERT_GE(none.warnings.size(), 2u);
+  // Two heads side by side in the front view: the central one is used, with a warning.
+  cv::Mat half, two;
+  cv::resize(cap.front, half, {320, 480});
+  cv::hconcat(half, half, two);
+  const ov::FaceObservation t = ov::observe(two, cap.side);
+  bool warned = false;
+  for (const auto& w : t.warnings) warned |= w.find("heads") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // A head cut by the image's left border is reported.
+  const cv::Mat cut = cap.front(cv::Rect(250, 0, 390, 480)).clone();
+  cv::Mat padded;
+  cv::copyMakeBorder(cut, padded, 0, 0, 0, 250, cv::BORDER_REPLICATE);
+  const ov::FaceObservation c = ov::observe(padded, cap.side);
+  bool border = false;
+  for (const auto& w : c.warnings) border |= w.find("border") != std::string::npos;
+  EXPECT_TRUE(border || c.front.boundary.empty()) << c.warnings.size();
+  for (const auto& w : c.warnings) std::cout << "cut-off warning: " << w << "\n";
+}

@@ -1,0 +1,178 @@
+// Unit tests of the vision building blocks on synthetic images with known answers.
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "tests/common/test_data.h"
+#include "vision/bspline.h"
+#include "vision/curve_features.h"
+#include "vision/edges.h"
+#include "vision/front_features.h"
+#include "vision/image_prep.h"
+#include "vision/observation_io.h"
+#include "vision/profile_fit.h"
+#include "vision/segment.h"
+
+namespace ov = orthoface::vision;
+
+TEST(BSpline, FitReproducesALine) {
+  std::vector<cv::Point2d> pts;
+  for (int i = 0; i <= 50; ++i) pts.emplace_back(10 + 2.0 * i, 5 + 1.0 * i);
+  const ov::BSpline2d s = ov::fit_bspline(pts, ov::chord_parameters(pts), {}, 8, 0.0);
+  for (double t : {0.0, 0.3, 0.77, 1.0}) {
+    const cv::Point2d p = ov::bspline_point(s, t);
+    EXPECT_NEAR(p.x, 10 + 100 * t, 1e-3);
+    EXPECT_NEAR(p.y, 5 + 50 * t, 1e-3);
+  }
+}
+
+TEST(BSpline, RejectsBadInput) {
+  EXPECT_THROW(ov::bspline_point(ov::BSpline2d{{{0, 0}, {1, 1}}}, 0.5), std::invalid_argument);
+  EXPECT_THROW(ov::fit_bspline({{0, 0}}, {0.0}, {}, 3, 0.0), std::invalid_argument);
+  EXPECT_THROW(ov::fit_bspline({{0, 0}, {1, 1}}, {0.0}, {}, 4, 0.0), std::invalid_argument);
+  EXPECT_THROW(ov::chord_parameters({}), std::invalid_argument);
+}
+
+TEST(BSpline, DegenerateAllPointsEqual) {
+  const std::vector<cv::Point2d> pts(10, cv::Point2d(3, 4));
+  const auto t = ov::chord_parameters(pts);  // zero length: uniform parameters
+  EXPECT_DOUBLE_EQ(t.back(), 1.0);
+  const ov::BSpline2d s = ov::fit_bspline(pts, t, {}, 4, 0.1);
+  EXPECT_NEAR(ov::bspline_point(s, 0.5).x, 3, 1e-6);
+}
+
+// A filled disc of radius 80 px: the profile model started 5 px off must land on its edge.
+TEST(ProfileFit, ConvergesToDiscEdge) {
+  cv::Mat img(300, 300, CV_32F, cv::Scalar(0));
+  cv::circle(img, {150, 150}, 80, cv::Scalar(1.0), cv::FILLED, cv::LINE_AA);
+  std::vector<cv::Point2d> init;
+  for (int i = 0; i <= 40; ++i) {
+    const double a = M_PI * (0.2 + 0.6 * i / 40.0);  // an arc on the disc's lower half
+    init.emplace_back(150 + 85 * std::cos(a), 150 + 85 * std::sin(a));
+  }
+  const ov::BSpline2d s0 = ov::fit_bspline(init, ov::chord_parameters(init), {}, 10, 0.01);
+  ov::ProfileFitOptions o;
+  o.num_control = 10;
+  const ov::ProfileFit fit = ov::fit_profile_to_edges(s0, ov::edge_image(img, {0.7, 0.1}), o);
+  EXPECT_GT(fit.support, 0.95);
+  const auto pts = ov::bspline_samples(fit.spline, 30);
+  for (size_t i = 2; i + 2 < pts.size(); ++i)  // the clamped ends see half a search window
+    EXPECT_NEAR(std::hypot(pts[i].x - 150, pts[i].y - 150), 80.0, 0.3);
+}
+
+TEST(ProfileFit, NoEdgesKeepsTheModel) {
+  const cv::Mat flat(100, 100, CV_32F, cv::Scalar(0.5));
+  const ov::BSpline2d s0{{{10, 10}, {30, 40}, {50, 60}, {70, 90}}};
+  const ov::ProfileFit fit = ov::fit_profile_to_edges(s0, ov::edge_image(flat), {});
+  EXPECT_EQ(fit.support, 0.0);
+  EXPECT_NEAR(ov::bspline_point(fit.spline, 0.5).x, ov::bspline_point(s0, 0.5).x, 1.0);
+  ov::ProfileFitOptions bad;
+  bad.iterations = 0;
+  EXPECT_THROW(ov::fit_profile_to_edges(s0, ov::edge_image(flat), bad), std::invalid_argument);
+}
+
+TEST(EdgeImage, StepEdgeAndBadInput) {
+  cv::Mat img(40, 40, CV_8U, cv::Scalar(50));
+  img(cv::Rect(20, 0, 20, 40)).setTo(200);
+  const ov::EdgeImage e = ov::edge_image(img);
+  EXPECT_GT(e.edges.at<uchar>(20, 19) + e.edges.at<uchar>(20, 20), 0);
+  EXPECT_EQ(e.edges.at<uchar>(20, 5), 0);
+  EXPECT_THROW(ov::edge_image(cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(ov::edge_image(cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  const ov::EdgeImage flat = ov::edge_image(cv::Mat(40, 40, CV_8U, cv::Scalar(7)));
+  EXPECT_EQ(cv::countNonZero(flat.edges), 0);
+}
+
+TEST(ImagePrep, ConvertsGreySixteenBitAndAlpha) {
+  cv::Mat g16(64, 64, CV_16U, cv::Scalar(1000));
+  g16.at<uint16_t>(0, 0) = 4000;
+  const cv::Mat a = ov::to_bgr8(g16, "test");
+  EXPECT_EQ(a.type(), CV_8UC3);
+  EXPECT_NEAR(a.at<cv::Vec3b>(1, 1)[0], 1000 * 255.0 / 4000, 1.0);
+  EXPECT_EQ(ov::to_bgr8(cv::Mat(64, 64, CV_8UC4, cv::Scalar(1, 2, 3, 4)), "t").at<cv::Vec3b>(0, 0),
+            cv::Vec3b(1, 2, 3));
+  EXPECT_THROW(ov::to_bgr8(cv::Mat(), "front image"), std::invalid_argument);
+  EXPECT_THROW(ov::to_bgr8(cv::Mat(1, 1, CV_8UC3), "front image"), std::invalid_argument);
+  EXPECT_THROW(ov::to_bgr8(cv::Mat(40, 400, CV_8UC3), "front image"), std::invalid_argument);
+}
+
+TEST(ImagePrep, BadInputFilesGiveClearErrors) {
+  const std::string dir = orthoface::testing::shared_data("bad_inputs");
+  if (dir.empty()) GTEST_SKIP() << "no ../shared/data";
+  for (const char* f : {"image_empty.jpg", "image_truncated.jpg", "image_text_named_jpg.jpg",
+                        "image_1x1.png", "image_wide_20000x8.png", "image_huge_header.png"}) {
+    try {
+      ov::read_image(dir + "/" + f);
+      ADD_FAILURE() << f << " was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(f), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(ov::read_image(dir + "/image_gray16.png").type(), CV_8UC3);
+  EXPECT_EQ(ov::read_image(dir + "/image_rgba.png").type(), CV_8UC3);
+  EXPECT_THROW(ov::read_image(dir + "/no_such_file.png"), std::runtime_error);
+}
+
+TEST(Segment, BorderModelFindsACentralDisc) {
+  cv::Mat img(200, 200, CV_8UC3, cv::Scalar(200, 200, 200));
+  cv::circle(img, {100, 110}, 50, cv::Scalar(90, 120, 200), cv::FILLED);
+  const cv::Mat m = ov::head_mask(ov::foreground_probability(img, cv::Mat()));
+  ASSERT_FALSE(m.empty());
+  EXPECT_NEAR(cv::countNonZero(m), M_PI * 50 * 50, 300);
+  // Degenerate: a blank image has no head; a background frame of another size is refused.
+  EXPECT_TRUE(ov::head_mask(ov::foreground_probability(cv::Mat(200, 200, CV_8UC3, cv::Scalar(9, 9, 9)), cv::Mat())).empty());
+  EXPECT_THROW(ov::foreground_probability(img, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(ov::foreground_probability(cv::Mat(), cv::Mat()), std::invalid_argument);
+}
+
+TEST(CurveFeatures, AlternatingExtremaOfASine) {
+  std::vector<double> v;
+  for (int i = 0; i < 400; ++i) v.push_back(std::sin(i * 2 * M_PI / 100.0));
+  const auto e = ov::alternating_extrema(v, 0.5);
+  ASSERT_GE(e.size(), 6u);
+  EXPECT_TRUE(e[0].is_max);
+  EXPECT_NEAR(e[0].index, 25, 1);
+  EXPECT_NEAR(e[1].index, 75, 1);
+  EXPECT_TRUE(ov::alternating_extrema(std::vector<double>(50, 1.0), 0.1).empty());
+}
+
+TEST(CentreLine, MirrorPointAcrossTiltedAxis) {
+  ov::CentreLine c{100, 50, 0.0, 1};
+  const cv::Point2d m = ov::mirror_point(c, {90, 10});
+  EXPECT_NEAR(m.x, 110, 1e-9);
+  EXPECT_NEAR(m.y, 10, 1e-9);
+  c.roll_rad = 0.2;
+  const cv::Point2d back = ov::mirror_point(c, ov::mirror_point(c, {37, 81}));
+  EXPECT_NEAR(back.x, 37, 1e-9);
+  EXPECT_NEAR(back.y, 81, 1e-9);
+}
+
+TEST(ObservationIo, RoundTripAndMalformed) {
+  ov::FaceObservation o;
+  o.front.width = 640;
+  o.front.boundary = {{1.5, 2.5}, {3, 4}};
+  o.front.features["nose_tip"] = {{320.5, 240.5}, 0.8, "profile-row", false};
+  o.side.features["chin"] = {{100, 300}, 0.3, "mirrored", true};
+  o.roll_rad = 0.01;
+  o.side_faces_left = false;
+  o.warnings = {"w1"};
+  const auto dir = orthoface::testing::temp_dir("observation_io");
+  ov::write_observation(o, (dir / "observation.json").string());
+  const ov::FaceObservation r = ov::read_observation((dir / "observation.json").string());
+  EXPECT_EQ(r.front.boundary.size(), 2u);
+  EXPECT_DOUBLE_EQ(r.front.features.at("nose_tip").px.x, 320.5);
+  EXPECT_TRUE(r.side.features.at("chin").mirrored);
+  EXPECT_FALSE(r.side_faces_left);
+  EXPECT_EQ(r.warnings, o.warnings);
+  auto j = ov::to_json(o);
+  j["front"]["features"]["not_a_landmark"] = j["front"]["features"]["nose_tip"];
+  EXPECT_THROW(ov::observation_from_json(j), std::invalid_argument);
+  j = ov::to_json(o);
+  j["centre_line"].erase("roll_rad");
+  EXPECT_THROW(ov::observation_from_json(j), std::invalid_argument);
+  EXPECT_THROW(ov::read_observation((dir / "missing.json").string()), std::runtime_error);
+  const std::string bad = orthoface::testing::shared_data("bad_inputs/json_malformed.json");
+  if (!bad.empty()) EXPECT_THROW(ov::read_observation(bad), std::runtime_error);
+}
