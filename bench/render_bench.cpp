@@ -1,4 +1,5 @@
-// Frames per second of the offscreen renderer (textured 640x480) on ellipsoids and sim heads.
+// Frames per second of the offscreen renderer (textured 640x480) on ellipsoids and sim heads,
+// and of new views by texture inheritance (ViewSynthesizer) of an uploaded sim head.
 // Prints Google Benchmark JSON by default; the "fps" counter is frames per second.
 // llvmpipe's rasteriser threads follow LP_NUM_THREADS (default: the number of cores).
 #include <benchmark/benchmark.h>
@@ -11,7 +12,9 @@
 #include "capture/camera_model.h"
 #include "render/gl_util.h"
 #include "render/renderer.h"
+#include "render/new_view.h"
 #include "render/shapes.h"
+#include "sim/head.h"
 
 namespace {
 
@@ -25,6 +28,12 @@ capture::CameraModel view_camera() {
 model::TriMesh ellipsoid(int triangles) {  // 2 * segments * (rings - 1) triangles
   const int rings = triangles >= 16000 ? 64 : 32;
   return render::uv_ellipsoid({0, 0, 0}, {76, 115, 98}, rings, 2 * rings, 1024);
+}
+
+model::TriMesh sim_head(int triangles) {
+  sim::HeadOptions o;
+  o.target_triangles = triangles;
+  return sim::make_head(sim::head_params(3), o).mesh;
 }
 
 void run(benchmark::State& state, const model::TriMesh& mesh, bool cached) {
@@ -46,6 +55,50 @@ void BM_TexturedEllipsoid(benchmark::State& state) {
 }
 void BM_TexturedEllipsoidReupload(benchmark::State& state) {
   run(state, ellipsoid(int(state.range(0))), false);
+}
+void BM_TexturedSimHead(benchmark::State& state) {
+  run(state, sim_head(int(state.range(0))), true);
+}
+
+// A 640x480 new view (yaw 30, pitch 10) of a sim head from its front / side photos, with source
+// visibility; arg 1 = pick, 2 = weighted, 3 = pick with per-vertex visibility; the mesh and
+// photos are uploaded once.
+void BM_NewViewSimHead(benchmark::State& state) {
+  const model::TriMesh head = sim_head(4000);
+  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.4);
+  render::Renderer renderer;
+  const cv::Mat front = renderer.render(head, rig.front).image;
+  const cv::Mat side = renderer.render(head, rig.side).image;
+  model::TriMesh bare = head;
+  bare.uvs.clear();
+  bare.texture = cv::Mat();
+  render::ViewSynthesizer synth(bare, rig, front, side);
+  render::SynthesisOptions o;
+  o.blend = state.range(0) == 2 ? render::Blend::Weighted : render::Blend::Pick;
+  o.per_pixel_visibility = state.range(0) != 3;
+  const capture::CameraModel cam = capture::camera_at(rig.front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
+  synth.render(cam, o);
+  for (auto _ : state) benchmark::DoNotOptimize(synth.render(cam, o).view.image.data);
+  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["triangles"] = double(head.triangles.size());
+}
+
+// Live re-texturing: new front / side photos every frame, then one view.
+void BM_NewViewWithNewPhotos(benchmark::State& state) {
+  const model::TriMesh head = sim_head(4000);
+  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.4);
+  const cv::Mat front = render::render_once(head, rig.front).image;
+  const cv::Mat side = render::render_once(head, rig.side).image;
+  model::TriMesh bare = head;
+  bare.uvs.clear();
+  bare.texture = cv::Mat();
+  render::ViewSynthesizer synth(bare, rig, front, side);
+  const capture::CameraModel cam = capture::camera_at(rig.front, 30 * M_PI / 180, 0, 1000);
+  for (auto _ : state) {
+    synth.set_photos(front, side);
+    benchmark::DoNotOptimize(synth.render(cam).view.image.data);
+  }
+  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 // Reference: the plainest llvmpipe draw of the same mesh in the same process (one colour, no
@@ -98,6 +151,9 @@ void BM_PlainLlvmpipeReference(benchmark::State& state) {
 BENCHMARK(BM_PlainLlvmpipeReference)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedEllipsoid)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedEllipsoidReupload)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TexturedSimHead)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_NewViewWithNewPhotos)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -21,8 +21,8 @@ struct SynthesisOptions {
   Blend blend = Blend::Pick;
   double feather_deg = 6;              // Pick: blend over +-this normal angle around the switch
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
-  double visibility_tolerance_mm = 1;  // seen by a source if within this of its depth map (+ slope)
-  double visibility_feather_px = 1.5;  // soft occlusion edge, in source pixels
+  bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
+  double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
   cv::Scalar background{0, 0, 0};      // BGR 0..255
   bool source_weights = false;         // also return per-pixel source weights (slower)

@@ -1,0 +1,132 @@
+#pragma once
+
+// Internal to render/: GLSL 3.3 sources of ViewSynthesizer (new_view.cpp).
+
+namespace orthoface::render::shaders {
+
+// Source depth maps: linear depth (z_cam - near) / (far - near) in a depth texture.
+inline const char* kSourceDepthVertex = R"(#version 330 core
+layout(location = 0) in vec3 pos;
+uniform mat4 clip_from_head;
+uniform vec4 zrow;
+out float v_z;
+void main() {
+  gl_Position = clip_from_head * vec4(pos, 1.0);
+  v_z = dot(zrow, vec4(pos, 1.0));
+})";
+
+inline const char* kSourceDepthFragment = R"(#version 330 core
+in float v_z;
+uniform vec2 zrange;
+void main() { gl_FragDepth = (v_z - zrange.x) / (zrange.y - zrange.x); })";
+
+// New view. Per vertex: where each source camera sees the point (camera coordinates), its z_cam
+// and the facing cosines, all affine in the point so they interpolate exactly (perspective-
+// correct); per fragment: distortion, visibility, blend weights and two bilinear photo samples.
+inline const char* kViewVertex = R"(#version 330 core
+layout(location = 0) in vec3 pos;
+layout(location = 1) in vec3 nrm;
+layout(location = 4) in vec2 seen;
+uniform mat4 clip_from_head;
+uniform mat4 src_from_head[2];
+uniform int persp[2];
+uniform vec3 centre[2];
+uniform vec3 toward[2];
+out vec3 v_q0;
+out vec3 v_q1;
+out vec2 v_z;
+out vec2 v_cos;
+out vec2 v_seen;
+vec3 q(int i, vec3 pc) { return persp[i] == 1 ? pc : vec3(pc.xy, 1.0); }
+float facing(int i, vec3 n) {
+  return dot(n, persp[i] == 1 ? normalize(centre[i] - pos) : toward[i]);
+}
+void main() {
+  gl_Position = clip_from_head * vec4(pos, 1.0);
+  vec3 p0 = (src_from_head[0] * vec4(pos, 1.0)).xyz;
+  vec3 p1 = (src_from_head[1] * vec4(pos, 1.0)).xyz;
+  v_q0 = q(0, p0);
+  v_q1 = q(1, p1);
+  v_z = vec2(p0.z, p1.z);
+  float len = length(nrm);
+  vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
+  v_cos = vec2(facing(0, n), facing(1, n));
+  v_seen = seen;
+})";
+
+// PER_PIXEL_VISIBILITY is defined (or not) in front of this source.
+inline const char* kViewFragment = R"(
+in vec3 v_q0;
+in vec3 v_q1;
+in vec2 v_z;
+in vec2 v_cos;
+in vec2 v_seen;
+uniform vec4 intr[2];   // fx fy cx cy
+uniform vec2 size[2];   // width height
+uniform vec4 dist[2];   // k1 k2 p1 p2
+uniform float k3[2];
+uniform sampler2D photo0;
+uniform sampler2D photo1;
+uniform sampler2DShadow zmap0;
+uniform sampler2DShadow zmap1;
+uniform vec2 zrange[2];  // near far of each source depth map
+uniform int persp[2];
+uniform float tol_mm;
+uniform int blend;
+uniform float feather;
+uniform float power;
+uniform vec3 fill;
+layout(location = 0) out vec4 color;
+layout(location = 1) out vec4 weights;
+
+vec2 distort(int i, vec2 xy) {  // OpenCV model, as capture::project (zero for orthographic)
+  float r2 = dot(xy, xy);
+  float radial = 1.0 + r2 * (dist[i].x + r2 * (dist[i].y + r2 * k3[i]));
+  return xy * radial + vec2(2.0 * dist[i].z * xy.x * xy.y + dist[i].w * (r2 + 2.0 * xy.x * xy.x),
+                            dist[i].z * (r2 + 2.0 * xy.y * xy.y) + 2.0 * dist[i].w * xy.x * xy.y);
+}
+
+float inside(vec2 uv, vec2 s) {
+  return step(0.0, uv.x) * step(0.0, uv.y) * step(uv.x, s.x) * step(uv.y, s.y);
+}
+
+// Share of source i's view of this point: facing x inside the frame x not occluded.
+float availability(int i, vec2 xy, vec2 uv, float z, float cosine, sampler2DShadow zmap,
+                   float vertex_seen) {
+  float a = smoothstep(0.0, 0.1, cosine) * inside(uv, size[i]);
+  if (persp[i] == 1) a *= step(0.0, z);
+#ifdef PER_PIXEL_VISIBILITY
+  vec2 und = intr[i].zw + intr[i].xy * xy;
+  float px_mm = (persp[i] == 1 ? z : 1.0) / intr[i].x;
+  float tol = tol_mm + 1.5 * px_mm / max(cosine, 0.2);
+  float ref = (z - tol - zrange[i].x) / (zrange[i].y - zrange[i].x);
+  a *= texture(zmap, vec3(und / size[i], ref));  // 2x2 PCF: soft over one source pixel
+#else
+  a *= vertex_seen;
+#endif
+  return a;
+}
+
+void main() {
+  vec2 xy0 = v_q0.xy / v_q0.z, xy1 = v_q1.xy / v_q1.z;
+  vec2 uv0 = intr[0].zw + intr[0].xy * distort(0, xy0);
+  vec2 uv1 = intr[1].zw + intr[1].xy * distort(1, xy1);
+  float a0 = availability(0, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
+  float a1 = availability(1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
+  float pf;  // share of the front photo where both see the point (seed 004 §6)
+  if (blend == 0) {
+    pf = feather > 0.0 ? smoothstep(-feather, feather, v_cos.x - v_cos.y)
+                       : step(0.0, v_cos.x - v_cos.y);
+  } else {
+    float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
+    pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
+  }
+  float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
+  float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);
+  float unseen = (1.0 - a0) * (1.0 - a1);
+  vec3 c0 = texture(photo0, uv0 / size[0]).rgb, c1 = texture(photo1, uv1 / size[1]).rgb;
+  color = vec4(w0 * c0 + w1 * c1 + unseen * fill, 1.0);
+  weights = vec4(w0, w1, unseen, 1.0);
+})";
+
+}  // namespace orthoface::render::shaders
