@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
+#include "model/mesh_io.h"
 #include "sim/truth_json.h"
 
 namespace orthoface::sim {
@@ -59,59 +60,25 @@ class Staging {
   std::vector<std::string> names_;
 };
 
-std::string obj_text(const model::TriMesh& mesh, const std::string& mtl_name, bool textured) {
-  std::string s = "# orthoface mesh: head frame, millimetres (+x subject's left, +y up, +z out of the face)\n";
-  if (textured) s += "mtllib " + mtl_name + "\nusemtl skin\n";
-  char buf[160];
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const Eigen::Vector3d& v = mesh.vertices[i];
-    if (mesh.colors.empty())
-      std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f\n", v.x(), v.y(), v.z());
-    else
-      std::snprintf(buf, sizeof buf, "v %.6f %.6f %.6f %.4f %.4f %.4f\n", v.x(), v.y(), v.z(),
-                    mesh.colors[i].x(), mesh.colors[i].y(), mesh.colors[i].z());
-    s += buf;
+// Stages truth.obj (+ truth.mtl, truth.png) written by model::write_mesh into a scratch folder.
+void stage_mesh(Staging& st, const fs::path& dir, const model::TriMesh& mesh) {
+  const fs::path scratch = dir / ".truth_mesh.tmp";
+  std::error_code ec;
+  fs::remove_all(scratch, ec);
+  if (!fs::create_directory(scratch, ec))
+    throw std::runtime_error("cannot write " + (dir / "truth.obj").string() + ": " + ec.message());
+  try {
+    model::write_mesh(mesh, (scratch / "truth.obj").string());
+    for (const auto& e : fs::directory_iterator(scratch))
+      fs::rename(e.path(), st.add(e.path().filename().string()));
+  } catch (...) {
+    fs::remove_all(scratch, ec);
+    throw;
   }
-  if (textured)
-    for (const auto& uv : mesh.uvs) {
-      std::snprintf(buf, sizeof buf, "vt %.6f %.6f\n", uv.x(), uv.y());
-      s += buf;
-    }
-  for (const auto& t : mesh.triangles) {
-    if (textured)
-      std::snprintf(buf, sizeof buf, "f %d/%d %d/%d %d/%d\n", t[0] + 1, t[0] + 1, t[1] + 1,
-                    t[1] + 1, t[2] + 1, t[2] + 1);
-    else
-      std::snprintf(buf, sizeof buf, "f %d %d %d\n", t[0] + 1, t[1] + 1, t[2] + 1);
-    s += buf;
-  }
-  return s;
-}
-
-std::string mtl_text(const std::string& texture_name) {
-  return "newmtl skin\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd " + texture_name + "\n";
-}
-
-// Stages name.obj (+ name.mtl, name_texture.png).
-void stage_obj(Staging& st, const model::TriMesh& mesh, const std::string& stem) {
-  const bool textured = !mesh.texture.empty() && mesh.uvs.size() == mesh.vertices.size();
-  st.text(stem + ".obj", obj_text(mesh, stem + ".mtl", textured));
-  if (!textured) return;
-  st.text(stem + ".mtl", mtl_text(stem + "_texture.png"));
-  st.png(stem + "_texture.png", mesh.texture);
+  fs::remove_all(scratch, ec);
 }
 
 }  // namespace
-
-void write_obj(const model::TriMesh& mesh, const std::string& obj_path) {
-  model::check_mesh(mesh, "write_obj " + obj_path);
-  const fs::path p(obj_path);
-  const fs::path dir = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  if (!fs::is_directory(dir)) throw std::runtime_error("cannot write " + obj_path + ": no such folder");
-  Staging st(dir);
-  stage_obj(st, mesh, p.stem().string());
-  st.commit();
-}
 
 void write_simulation(const std::string& dir, const Head& head, const Capture& capture,
                       const RigOptions& options) {
@@ -123,7 +90,7 @@ void write_simulation(const std::string& dir, const Head& head, const Capture& c
   st.png("side_mask.png", capture.side_mask);
   st.png("background.png", capture.background_front);
   st.png("background_side.png", capture.background_side);
-  stage_obj(st, head.mesh, "truth");
+  stage_mesh(st, dir, head.mesh);
   // These writers do their own tmp + rename, onto our staged names.
   write_truth_json(make_truth(capture, options, head.name, "truth.obj"),
                    st.add("landmarks.json").string());

@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
+#include "model/mesh_io.h"
 #include "sim/truth_json.h"
 #include "tests/common/test_data.h"
 
@@ -67,7 +68,7 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
   const std::vector<std::string> expected = {
       "background.png", "background_side.png", "front.png",   "front_mask.png",
       "landmarks.json", "rig.yaml",            "side.png",    "side_mask.png",
-      "truth.mtl",      "truth.obj",           "truth_texture.png"};
+      "truth.mtl",      "truth.obj",           "truth.png"};
   EXPECT_EQ(files_in(dir), expected);
   const cv::Mat front = cv::imread((dir / "front.png").string());
   ASSERT_EQ(front.size(), cv::Size(320, 240));
@@ -86,7 +87,10 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
   EXPECT_NEAR(nose.front_px.y(), nose.side_px.y(), 1e-9);
   const cv::Mat mask = cv::imread((dir / "side_mask.png").string(), cv::IMREAD_GRAYSCALE);
   EXPECT_EQ(mask.at<uchar>(int(nose.side_px.y()), int(nose.side_px.x()) + 1), 255);
-  EXPECT_NE(slurp(dir / "truth.obj").find("mtllib truth.mtl"), std::string::npos);
+  const model::TriMesh mesh = model::read_mesh((dir / "truth.obj").string());
+  EXPECT_GT(mesh.triangles.size(), 1000u);
+  EXPECT_FALSE(mesh.texture.empty());
+  EXPECT_EQ(files_in(dir).size(), expected.size());  // no scratch or .tmp files left
   // Running again into the same folder replaces the files.
   EXPECT_EQ(run("simulate --subject 1 --out sim1 --size 320x240", work).code, 0);
 }
