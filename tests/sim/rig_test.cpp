@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
+#include <map>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -126,6 +128,51 @@ TEST(Rig, IdealLandmarksLandWhereTheRendererDrawsThemAndOnTheSameRow) {
   std::cout << "ideal rig: max landmark projection error " << err << " px\n";
   for (const auto& [name, t] : cap.landmarks)
     EXPECT_NEAR(t.front_px.y(), t.side_px.y(), 1e-9) << name;  // seed 004 eq. 1
+}
+
+// Visible landmarks away from depth edges lie on the rendered surface: the depth map at their
+// pixel agrees with their own depth. Returns how many were checked.
+int check_on_rendered_surface(const cv::Mat& depth_mm, const capture::CameraModel& cam,
+                              const std::map<std::string, LandmarkTruth>& lms, bool front) {
+  int checked = 0;
+  for (const auto& [name, t] : lms) {
+    const Eigen::Vector2d px = front ? t.front_px : t.side_px;
+    if (!(front ? t.visible_front : t.visible_side)) continue;
+    const int c = int(px.x()), r = int(px.y());
+    if (c < 1 || r < 1 || c + 1 >= depth_mm.cols || r + 1 >= depth_mm.rows) continue;
+    double lo = INFINITY, hi = -INFINITY;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        lo = std::min(lo, double(depth_mm.at<float>(r + dr, c + dc)));
+        hi = std::max(hi, double(depth_mm.at<float>(r + dr, c + dc)));
+      }
+    if (!(hi - lo < 3.0)) continue;  // silhouette or crease: the pixel grid decides
+    EXPECT_NEAR(depth_mm.at<float>(r, c), capture::depth(cam, t.xyz_mm), 1.5) << name;
+    ++checked;
+  }
+  return checked;
+}
+
+TEST(Rig, SimHeadLandmarksLandWhereTheRendererDrawsThem) {
+  render::Renderer renderer;
+  double worst = 0;
+  for (int seed : {0, 1, 2}) {
+    const Head head = make_head(seed);
+    const Capture cap = simulate_capture(head, {}, renderer);
+    ASSERT_EQ(cap.landmarks.size(), head.landmarks.size());
+    worst = std::max(worst, max_projection_error(renderer, head, cap));
+    for (const auto& [name, t] : cap.landmarks)
+      EXPECT_NEAR(t.front_px.y(), t.side_px.y(), 1e-9) << name;  // seed 004 eq. 1
+    EXPECT_GE(check_on_rendered_surface(cap.front_depth_mm, cap.true_rig.front, cap.landmarks, true), 15);
+    EXPECT_GE(check_on_rendered_surface(cap.side_depth_mm, cap.true_rig.side, cap.landmarks, false), 6);
+    // The midline profile faces the side camera; the far eye does not.
+    EXPECT_TRUE(cap.landmarks.at("nose_bridge").visible_side);
+    EXPECT_TRUE(cap.landmarks.at("eye_left_outer").visible_side);
+    EXPECT_FALSE(cap.landmarks.at("eye_right_outer").visible_side);
+    EXPECT_TRUE(cap.landmarks.at("eye_right_outer").visible_front);
+  }
+  std::cout << "sim heads 0-2, ideal rig: max landmark projection error " << worst << " px\n";
+  EXPECT_LT(worst, 0.5);
 }
 
 TEST(Rig, PerspectiveRigWithPoseErrorsStillMatchesTheRenderer) {
