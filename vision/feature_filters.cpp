@@ -133,7 +133,7 @@ MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_l
   for (int r = 0; r < win.height; ++r) {
     const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(win.y + r) + win.x;
     for (int x = 0; x < win.width; ++x)
-      m.at<uchar>(r, x) = (p[x][1] - c.skin[1] > 9 || p[x][0] < c.skin[0] - 45) ? 255 : 0;
+      m.at<uchar>(r, x) = (p[x][1] - c.skin[1] > 6 || p[x][0] < c.skin[0] - 35) ? 255 : 0;
   }
   cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
   const cv::Point seed(int(x0) - win.x, int((r_lu + r_ll) / 2) - win.y);
@@ -186,10 +186,10 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
       if (gx > best && gx > 6) best = gx, ax[side] = x0 + s * t;
     }
   }
-  n.ok = found;
+  n.ok = true;  // without nostrils the wing edges (or the position model) still place them
   n.alar_image_left = {ax[0], row};
   n.alar_image_right = {ax[1], row};
-  n.confidence = found ? 0.6 : 0.2;
+  n.confidence = found ? 0.6 : 0.15;
   return n;
 }
 

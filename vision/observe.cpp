@@ -121,6 +121,9 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   const cv::Mat front = to_bgr8(front_in, "front image");
   const cv::Mat side = to_bgr8(side_in, "side image");
   check_sizes(front, side, o.max_size_ratio);
+  if (front.size() == side.size() && cv::norm(front, side, cv::NORM_L1) == 0)
+    throw std::invalid_argument("front image and side image are the same picture; the side view "
+                                "must be taken 90 deg from the front");
   const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
   const cv::Mat bgs = optional_bgr(o.background_side, side, "side background");
   FaceObservation obs;

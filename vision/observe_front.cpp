@@ -27,12 +27,12 @@ void check_not_profile(const cv::Mat& mask, std::vector<std::string>& warn) {
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * H), int(e.top + 0.85 * H));
   const double hi = std::max(p.x, p.y), lo = std::max(1.0, std::min(p.x, p.y));
   const double neck = std::abs(neck_offset(e, H / 1.2));
-  if (hi > 0.04 * H && hi / lo > 1.6 && neck > 0.025 * H)
-    throw std::invalid_argument("front image looks like a profile (side view): one silhouette "
-                                "side has a nose-like bump of " + std::to_string(int(hi)) +
-                                " px, the other " + std::to_string(int(lo)) +
-                                " px; were --front and --side swapped?");
-  if (hi > 0.06 * H && hi / lo > 2.0)
+  // Real frontal photos (hair, turned heads) can look lopsided too, so this only warns.
+  if (hi > 0.06 * H && hi / lo > 2.5 && neck > 0.05 * H)
+    warn.push_back("front view: silhouette looks like a profile (nose-like bump of " +
+                   std::to_string(int(hi)) + " px on one side, " + std::to_string(int(lo)) +
+                   " px on the other); were --front and --side swapped?");
+  else if (hi > 0.04 * H && hi / lo > 1.6)
     warn.push_back("front view: silhouette is asymmetric; the head may be turned");
 }
 

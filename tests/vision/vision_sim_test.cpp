@@ -80,11 +80,21 @@ TEST(Observe, BadInputs) {
   cv::resize(cap.side, small, {}, 0.4, 0.4);
   EXPECT_THROW(ov::observe(cap.front, small), std::invalid_argument);  // sizes too different
   try {
-    ov::observe(cap.side, cap.side);  // a profile given as the front photo
-    ADD_FAILURE() << "profile accepted as front";
+    ov::observe(cap.side, cap.side);  // the side photo given as the front too
+    ADD_FAILURE() << "side photo accepted as front";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("profile"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("same picture"), std::string::npos) << e.what();
   }
+  // A profile (another subject's side view) given as the front: at least a warning.
+  const sim::Capture& other = capture(1);
+  bool flagged = false;
+  try {
+    for (const auto& w : ov::observe(other.side, cap.side).warnings)
+      flagged |= w.find("asymmetric") != std::string::npos || w.find("profile") != std::string::npos;
+  } catch (const std::invalid_argument&) {
+    flagged = true;
+  }
+  EXPECT_TRUE(flagged);
   ov::ObserveOptions o;
   o.background_front = cv::Mat(10, 10, CV_8UC3);
   EXPECT_THROW(ov::observe(cap.front, cap.side, o), std::invalid_argument);
@@ -98,7 +108,8 @@ TEST(Observe, BadInputs) {
 TEST(Observe, NoFaceTwoFacesAndCutOff) {
   const sim::Capture& cap = capture(0);
   const cv::Mat blank(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
-  const ov::FaceObservation none = ov::observe(blank, blank);
+  const cv::Mat blank2(480, 640, CV_8UC3, cv::Scalar(90, 90, 90));
+  const ov::FaceObservation none = ov::observe(blank, blank2);
   EXPECT_TRUE(none.front.boundary.empty());
   EXPECT_TRUE(none.side.boundary.empty());
   EXPECT_FALSE(ov::is_complete(none));
