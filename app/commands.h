@@ -8,5 +8,8 @@ int run_version(int argc, char** argv);
 int run_detect(int argc, char** argv);
 int run_simulate(int argc, char** argv);
 int run_demo(int argc, char** argv);
+int run_reconstruct(int argc, char** argv);
+int run_eval(int argc, char** argv);
+int run_render(int argc, char** argv);
 
 }  // namespace orthoface::app

@@ -20,6 +20,9 @@ constexpr Entry kCommands[] = {
     {"demo", orthoface::app::run_demo, "simulated heads through the rig, true views, contact sheet"},
     {"detect", orthoface::app::run_detect, "find silhouette, profile and facial features in a front + side pair"},
     {"simulate", orthoface::app::run_simulate, "render a simulated head through the two-camera rig, with its truth"},
+    {"reconstruct", orthoface::app::run_reconstruct, "front + side photos -> textured 3D face (mesh, landmarks, report)"},
+    {"eval", orthoface::app::run_eval, "compare a reconstruction with a ground truth (relative error, landmarks)"},
+    {"render", orthoface::app::run_render, "new views of a reconstruction folder at any yaw / pitch (texture inheritance)"},
 };
 
 void print_usage() {

@@ -25,6 +25,8 @@ struct AdaptOptions {
   int max_fold_passes = 20;          // relaxation passes to remove flipped triangles
   double ear_margin_mm = 8.0;        // slices within the ear's heights (+ margin) take no
                                      // silhouette data (the silhouette is the ear); < 0: use all
+  double jaw_margin_mm = 5.0;        // slices this far below the mouth corners take no
+                                     // silhouette data (it is the neck there); < 0: use all
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
   void check() const;                // throws std::invalid_argument (k < 1, negative counts)
 };

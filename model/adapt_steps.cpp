@@ -23,6 +23,13 @@ bool at_ear_height(double base_y, double margin_mm) {
   return base_y <= top + margin_mm && base_y >= lobe - margin_mm;
 }
 
+// True below the jaw line of the generic head (mouth corners lowered by `margin`): there the
+// front silhouette is the neck or the jaw angle far behind the face, not the face's boundary.
+bool below_jaw(double base_y, double margin_mm) {
+  static const double mouth = generic_landmarks().at("mouth_left").y();
+  return margin_mm >= 0 && base_y < mouth - margin_mm;
+}
+
 void add_boundary_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
                           const StereoData& data, const AdaptOptions& options,
                           std::map<int, Eigen::Vector3d>& t) {
@@ -31,8 +38,9 @@ void add_boundary_targets(const BaseMesh& base, const std::vector<Eigen::Vector3
     const double y = aligned[c].y();
     if (y > data.y_top || y < data.y_bottom) continue;  // no data at this height
     const int right = base.slices[s].front(), left = base.slices[s].back();
-    const bool ears = options.ear_margin_mm >= 0 &&
-                      at_ear_height(base.slice_heights[s], options.ear_margin_mm);
+    const bool ears = (options.ear_margin_mm >= 0 &&
+                       at_ear_height(base.slice_heights[s], options.ear_margin_mm)) ||
+                      below_jaw(base.slice_heights[s], options.jaw_margin_mm);
     if (auto x = silhouette_x_at(data, y, -1); x && !ears) t[right] = {*x, y, aligned[right].z()};
     if (auto x = silhouette_x_at(data, y, +1); x && !ears) t[left] = {*x, y, aligned[left].z()};
     if (auto z = profile_z_at(data, y)) t[c] = {centre_x_at(data, y), y, *z};  // seed 004 eq. 1

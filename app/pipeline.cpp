@@ -1,0 +1,181 @@
+#include "app/pipeline.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "model/base_mesh.h"
+#include "model/mesh_io.h"
+#include "vision/landmarks.h"
+#include "vision/observation_io.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Horizontal extent (px) of the front silhouette polyline on image row v, or 0.
+double silhouette_width_px(const std::vector<cv::Point2d>& boundary, double v) {
+  double lo = 1e300, hi = -1e300;
+  for (size_t i = 0; i + 1 < boundary.size(); ++i) {
+    const cv::Point2d &a = boundary[i], &b = boundary[i + 1];
+    if ((a.y - v) * (b.y - v) > 0 || a.y == b.y) continue;
+    const double u = a.x + (v - a.y) / (b.y - a.y) * (b.x - a.x);
+    lo = std::min(lo, u), hi = std::max(hi, u);
+  }
+  return hi > lo ? hi - lo : 0.0;
+}
+
+// Side rows as a linear function of front rows, from the midline features seen in both views.
+std::pair<double, double> side_row_map(const vision::FaceObservation& obs) {
+  std::vector<std::pair<double, double>> rows;
+  for (const auto& [name, f] : obs.front.features) {
+    if (!vision::is_landmark_name(name) || vision::mirrored_name(name) != name) continue;
+    if (auto it = obs.side.features.find(name); it != obs.side.features.end())
+      rows.push_back({f.px.y, it->second.px.y});
+  }
+  if (rows.empty()) return {1.0, 0.0};
+  double mf = 0, ms = 0;
+  for (auto [f, s] : rows) mf += f / rows.size(), ms += s / rows.size();
+  double sff = 0, sfs = 0;
+  for (auto [f, s] : rows) sff += (f - mf) * (f - mf), sfs += (f - mf) * (s - ms);
+  const double a = (rows.size() >= 2 && sff > 400.0) ? sfs / sff : 1.0;  // spread >= ~20 px
+  return {a, ms - a * mf};
+}
+
+// The ideal rig of seed 004 when no rig file is given, scaled by the average head (see header).
+capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::string& note,
+                                    std::vector<std::string>& warnings) {
+  const auto generic = model::generic_landmarks();
+  const double eye_y = generic.at("eye_left_center").y();
+  double row = 0;
+  int n = 0;
+  for (const char* e : {"eye_left_center", "eye_right_center"})
+    if (auto it = obs.front.features.find(e); it != obs.front.features.end()) row += it->second.px.y, ++n;
+  if (n == 0) {
+    double lo = 1e300, hi = -1e300;
+    for (const auto& p : obs.front.boundary) lo = std::min(lo, p.y), hi = std::max(hi, p.y);
+    row = lo + 0.4 * (hi - lo);
+    warnings.push_back("no eyes found: scale measured at 40% of the silhouette height");
+  } else {
+    row /= n;
+  }
+  const double width_px = silhouette_width_px(obs.front.boundary, row);
+  if (width_px < 8)
+    throw std::invalid_argument("cannot reconstruct: the front silhouette has no width at eye height");
+  const double width_mm = 2 * model::generic_half_width(eye_y);
+  const double s = width_px / width_mm;
+  capture::RigCalibration rig = capture::ideal_rig(obs.front.width, obs.front.height, s);
+  const auto [a, b] = side_row_map(obs);
+  if (!(a > 1 / 1.5 && a < 1.5))
+    throw std::invalid_argument("inconsistent heights between views: the side photo's midline "
+                                "features are " + std::to_string(a) + " times as far apart as the front's");
+  rig.side.width = obs.side.width;
+  rig.side.height = obs.side.height;
+  rig.side.fx = rig.side.fy = s * a;
+  rig.side.cx = obs.side.width / 2.0;
+  rig.side.cy = b + a * rig.front.cy;
+  rig.source = "default (no rig file)";
+  note = "no rig file: scale assumed from the average head, " + std::to_string(width_mm) +
+         " mm wide at eye height = " + std::to_string(width_px) + " px, so " + std::to_string(s) +
+         " px/mm; side photo matched to the front by its midline features (scale " +
+         std::to_string(a) + ", row offset " + std::to_string(b) + " px). Sizes are estimates.";
+  return rig;
+}
+
+void add_texture(const cv::Mat& front, const capture::CameraModel& cam, model::TriMesh& mesh) {
+  if (front.empty()) return;
+  cv::Mat bgr = front;
+  if (front.channels() == 1) cv::cvtColor(front, bgr, cv::COLOR_GRAY2BGR);
+  if (front.channels() == 4) cv::cvtColor(front, bgr, cv::COLOR_BGRA2BGR);
+  if (bgr.depth() != CV_8U) bgr.convertTo(bgr, CV_8U, bgr.depth() == CV_16U ? 1.0 / 257 : 1.0);
+  mesh.texture = bgr.clone();
+  mesh.uvs.clear();
+  for (const auto& v : mesh.vertices) {  // front-view projection of the texture
+    const Eigen::Vector2d px = capture::project(cam, v);
+    mesh.uvs.emplace_back(std::clamp(px.x() / bgr.cols, 0.0, 1.0),
+                          std::clamp(1.0 - px.y() / bgr.rows, 0.0, 1.0));
+  }
+}
+
+void fill_report(const vision::FaceObservation& obs, const model::StereoData& data,
+                 const model::AdaptResult& r, ReconstructionReport& rep) {
+  rep.warnings.insert(rep.warnings.end(), obs.warnings.begin(), obs.warnings.end());
+  rep.warnings.insert(rep.warnings.end(), r.warnings.begin(), r.warnings.end());
+  rep.confidences["front_boundary"] = obs.front.boundary_confidence;
+  rep.confidences["side_profile"] = obs.side.boundary_confidence;
+  rep.confidences["centre_line"] = obs.centre_confidence;
+  for (const auto& [name, p] : data.features) {
+    rep.confidences["feature:" + name] = p.confidence;
+    rep.features_found.push_back(name);
+  }
+  rep.landmarks_used = static_cast<int>(r.targets.vertices.size());
+  rep.folds_fixed = r.folds_fixed;
+  rep.folds_remaining = r.folds_remaining;
+}
+
+}  // namespace
+
+void ReconstructOptions::check() const {
+  observe.check();
+  stereo.check();
+  adapt.check();
+  if (rig && (rig->front.width <= 0 || rig->side.width <= 0))
+    throw std::invalid_argument("ReconstructOptions: rig has a camera without an image size");
+}
+
+Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
+                           const ReconstructOptions& options) {
+  options.check();
+  if (front.empty()) throw std::invalid_argument("front photo is empty");
+  if (side.empty()) throw std::invalid_argument("side photo is empty");
+  const auto t0 = Clock::now();
+  const vision::FaceObservation obs = vision::observe(front, side, options.observe);
+  const double observe_ms = ms_since(t0);
+  Reconstruction r = reconstruct_observation(obs, front, side, options);
+  r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});
+  return r;
+}
+
+Reconstruction reconstruct_observation(const vision::FaceObservation& obs, const cv::Mat& front,
+                                       const cv::Mat& side, const ReconstructOptions& options) {
+  options.check();
+  Reconstruction out;
+  out.observation = obs;
+  out.front = front;
+  out.side = side;
+  auto t = Clock::now();
+  if (options.rig) {
+    out.rig = *options.rig;
+    out.report.scale_note = "rig file (" + out.rig.source + "): true scale";
+  } else {
+    out.rig = default_rig(obs, out.report.scale_note, out.report.warnings);
+  }
+  const model::StereoData data = model::stereo_match(obs, out.rig, options.stereo);
+  out.report.stage_ms.push_back({"stereo", ms_since(t)});
+  t = Clock::now();
+  static const model::BaseMesh base = model::base_mesh();
+  const model::AdaptResult r = model::adapt(base, data, options.adapt);
+  out.report.stage_ms.push_back({"adapt", ms_since(t)});
+  t = Clock::now();
+  out.mesh = r.mesh;
+  add_texture(front, out.rig.front, out.mesh);
+  out.landmarks = r.landmarks;
+  out.report.stage_ms.push_back({"texture", ms_since(t)});
+  fill_report(obs, data, r, out.report);
+  return out;
+}
+
+}  // namespace orthoface::app

@@ -1,0 +1,92 @@
+// write_reconstruction: the reconstruction folder, all files first in DIR.tmp/.
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "app/pipeline.h"
+#include "model/mesh_io.h"
+#include "vision/observation_io.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+void write_json(const nlohmann::json& j, const fs::path& path) {
+  std::ofstream f(path);
+  f << j.dump(2) << "\n";
+  if (!f) throw std::runtime_error("cannot write " + path.string());
+}
+
+void write_png(const cv::Mat& image, const fs::path& path) {
+  if (image.empty()) return;
+  if (!cv::imwrite(path.string(), image)) throw std::runtime_error("cannot write " + path.string());
+}
+
+nlohmann::json landmarks_json(const Reconstruction& r) {
+  const std::set<std::string> found(r.report.features_found.begin(), r.report.features_found.end());
+  nlohmann::json l = nlohmann::json::object();
+  for (const auto& [name, p] : r.landmarks) {
+    const auto c = r.report.confidences.find("feature:" + name);
+    l[name] = {{"xyz_mm", {p.x(), p.y(), p.z()}},
+               {"observed", found.count(name) > 0},
+               {"confidence", c == r.report.confidences.end() ? 0.0 : c->second}};
+  }
+  return {{"format", "orthoface-landmarks"}, {"version", 1},
+          {"units", "mm, head frame (DESIGN.md)"}, {"landmarks", l}};
+}
+
+nlohmann::json report_json(const Reconstruction& r) {
+  const ReconstructionReport& rep = r.report;
+  nlohmann::json stages = nlohmann::json::object();
+  double total = 0;
+  for (const auto& [stage, ms] : rep.stage_ms) stages[stage] = ms, total += ms;
+  return {{"format", "orthoface-report"},
+          {"version", 1},
+          {"scale", rep.scale_note},
+          {"rig_source", r.rig.source},
+          {"stage_ms", stages},
+          {"total_ms", total},
+          {"warnings", rep.warnings},
+          {"confidences", rep.confidences},
+          {"features_found", rep.features_found},
+          {"landmarks_used", rep.landmarks_used},
+          {"folds_fixed", rep.folds_fixed},
+          {"folds_remaining", rep.folds_remaining},
+          {"mesh", {{"file", "head.obj"},
+                    {"vertices", r.mesh.vertices.size()},
+                    {"triangles", r.mesh.triangles.size()}}}};
+}
+
+}  // namespace
+
+void write_reconstruction(const Reconstruction& r, const std::string& dir) {
+  const fs::path out(dir);
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw std::runtime_error("output " + dir + " exists and is not a folder");
+  const fs::path tmp = out.string() + ".tmp";
+  std::error_code ec;
+  fs::remove_all(tmp, ec);
+  try {
+    fs::create_directories(tmp);
+    model::write_mesh(r.mesh, (tmp / "head.obj").string());
+    write_png(r.front, tmp / "front.png");
+    write_png(r.side, tmp / "side.png");
+    capture::write_rig(r.rig, (tmp / "rig.yaml").string());
+    vision::write_observation(r.observation, (tmp / "observation.json").string());
+    write_json(landmarks_json(r), tmp / "landmarks.json");
+    write_json(report_json(r), tmp / "report.json");
+    fs::create_directories(out);
+    for (const auto& e : fs::directory_iterator(tmp)) fs::rename(e.path(), out / e.path().filename());
+    fs::remove_all(tmp);
+  } catch (const std::exception& e) {
+    fs::remove_all(tmp, ec);
+    throw std::runtime_error(std::string("cannot write reconstruction ") + dir + ": " + e.what());
+  }
+}
+
+}  // namespace orthoface::app
