@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev
   libv4l-dev v4l-utils libcamera-dev
   libopenmpi-dev openmpi-bin
+  assimp-utils
 )
 
 missing=()
