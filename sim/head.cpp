@@ -112,8 +112,12 @@ HeadParams head_params(int seed) {
 }
 
 std::optional<SilhouetteExtremes> silhouette_extremes(const Head& head, double y_mm) {
+  return silhouette_extremes(head.mesh, y_mm);
+}
+
+std::optional<SilhouetteExtremes> silhouette_extremes(const model::TriMesh& mesh, double y_mm) {
   if (!std::isfinite(y_mm)) throw std::invalid_argument("silhouette_extremes: y is not finite");
-  const auto& v = head.mesh.vertices;
+  const auto& v = mesh.vertices;
   SilhouetteExtremes e;
   e.min_x = e.min_z = std::numeric_limits<double>::infinity();
   e.max_x = e.max_z = -std::numeric_limits<double>::infinity();
@@ -125,7 +129,7 @@ std::optional<SilhouetteExtremes> silhouette_extremes(const Head& head, double y
     e.min_z = std::min(e.min_z, p.z());
     e.max_z = std::max(e.max_z, p.z());
   };
-  for (const auto& t : head.mesh.triangles) {
+  for (const auto& t : mesh.triangles) {
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d& a = v.at(t[k]);
       const Eigen::Vector3d& b = v.at(t[(k + 1) % 3]);

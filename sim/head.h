@@ -16,6 +16,7 @@ struct Head {
   model::TriMesh mesh;
   std::map<std::string, Eigen::Vector3d> landmarks;
   std::string name;  // "sim seed N", "Lee Perry-Smith scan", ...
+  bool landmarks_picked = false;  // true: picked on a scan by hand / heuristics (a few mm off)
 };
 
 // Shape and appearance of a simulated head. Lengths in mm (head frame: origin between the
@@ -79,5 +80,7 @@ struct SilhouetteExtremes {
   double min_z = 0, max_z = 0;  // side view extremes: back of head and profile (mm)
 };
 std::optional<SilhouetteExtremes> silhouette_extremes(const Head& head, double y_mm);
+// The same for any mesh (in its own units). Throws std::invalid_argument if y is not finite.
+std::optional<SilhouetteExtremes> silhouette_extremes(const model::TriMesh& mesh, double y);
 
 }  // namespace orthoface::sim
