@@ -11,5 +11,9 @@ int run_demo(int argc, char** argv);
 int run_reconstruct(int argc, char** argv);
 int run_eval(int argc, char** argv);
 int run_render(int argc, char** argv);
+int run_devices(int argc, char** argv);
+int run_capture(int argc, char** argv);
+int run_calibrate(int argc, char** argv);
+int run_station(int argc, char** argv);
 
 }  // namespace orthoface::app

@@ -23,6 +23,10 @@ constexpr Entry kCommands[] = {
     {"reconstruct", orthoface::app::run_reconstruct, "front + side photos -> textured 3D face (mesh, landmarks, report)"},
     {"eval", orthoface::app::run_eval, "compare a reconstruction with a ground truth (relative error, landmarks)"},
     {"render", orthoface::app::run_render, "new views of a reconstruction folder at any yaw / pitch (texture inheritance)"},
+    {"devices", orthoface::app::run_devices, "list cameras (V4L2, libcamera, simulated) and their modes"},
+    {"capture", orthoface::app::run_capture, "take one synchronized front + side pair, save it, reconstruct it"},
+    {"calibrate", orthoface::app::run_calibrate, "calibrate the two-camera rig from checkerboard views -> rig.yaml"},
+    {"station", orthoface::app::run_station, "live two-camera station with the rotated view (window, http, v4l2)"},
 };
 
 void print_usage() {

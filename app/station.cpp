@@ -1,0 +1,328 @@
+// orthoface station: two live cameras, synchronized pairs on request, a fitted face model and
+// its rotated view re-textured from the live frames every frame (the conferencing use).
+#include <csignal>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <iostream>
+#include <memory>
+#include <numeric>
+#include <sstream>
+#include <thread>
+#include <stdexcept>
+#include <string>
+
+#include <opencv2/highgui.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/pipeline.h"
+#include "app/station_http.h"
+#include "app/station_output.h"
+#include "capture/pair_capture.h"
+#include "render/new_view.h"
+#include "sim/sim_camera.h"
+
+namespace orthoface::app {
+namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_signal(int) { g_stop = 1; }
+
+Command station_command() {
+  return {"station",
+          "Live two-camera station: shows both cameras and the face turned to --yaw, re-textured "
+          "from the live frames every frame; takes a synchronized pair on a key press ('c') or "
+          "GET /capture, refits the model on 'r', GET /refit or every --refit-every frames. "
+          "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
+          "orthoface station --front DEV --side DEV [--yaw DEG] [--output window|http:PORT|v4l2:/dev/videoN]",
+          {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
+           {"side", true, "DEV  side camera"},
+           {"yaw", true, "DEG  rotated view yaw, -90..90 (default 30)"},
+           {"pitch", true, "DEG  rotated view pitch, -60..60 (default 0)"},
+           {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
+           {"bind", true, "ADDR  http address (default 127.0.0.1)"},
+           {"duration", true, "S  stop after S seconds (default: until Ctrl-C)"},
+           {"size", true, "WxH  capture size (default 640x480)"},
+           {"fps", true, "N  capture frame rate (default 30)"},
+           {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
+           {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
+           {"out", true, "DIR  pairs and the run summary (default station_out)"}},
+          0};
+}
+
+struct Settings {
+  std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
+  double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
+  int width = 640, height = 480, refit_every = 0;
+};
+
+Settings settings_from(const Args& a) {
+  Settings s;
+  for (const char* flag : {"front", "side"})
+    if (!a.has(flag)) throw std::invalid_argument(std::string("station: --") + flag + " is required");
+  s.front = a.get("front");
+  s.side = a.get("side");
+  if (capture::same_device(s.front, s.side))
+    throw std::invalid_argument("station: --front and --side are the same device (" + s.front + ")");
+  if (a.has("yaw")) s.yaw_deg = to_double("yaw", a.get("yaw"), -90, 90);
+  if (a.has("pitch")) s.pitch_deg = to_double("pitch", a.get("pitch"), -60, 60);
+  if (a.has("duration")) s.duration_s = to_double("duration", a.get("duration"), 0.1, 1e7);
+  if (a.has("fps")) s.fps = to_double("fps", a.get("fps"), 1, 240);
+  if (a.has("size")) std::tie(s.width, s.height) = to_size("size", a.get("size"), 8192);
+  if (a.has("refit-every")) s.refit_every = to_int("refit-every", a.get("refit-every"), 0, 1000000);
+  s.output = a.get("output", s.output);
+  s.bind = a.get("bind", s.bind);
+  s.out = a.get("out", s.out);
+  if (a.has("rig")) require_file(a.get("rig"), "--rig"), s.rig_file = a.get("rig");
+  const bool ok = s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
+  if (!ok) throw std::invalid_argument("--output: expected window, http:PORT or v4l2:/dev/videoN, got '" + s.output + "'");
+  return s;
+}
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, size_t(p * (v.size() - 1) + 0.5))];
+}
+
+std::vector<unsigned char> jpeg(const cv::Mat& img) {
+  std::vector<unsigned char> out;
+  cv::imencode(".jpg", img, out, {cv::IMWRITE_JPEG_QUALITY, 80});
+  return out;
+}
+
+class Station {
+ public:
+  explicit Station(const Settings& s);
+  int run();
+
+ private:
+  void start_fit(const capture::FramePair& pair);
+  void finish_fit();
+  void take_pair();
+  void handle(const std::string& action);
+  void render_view(const capture::Frame& front, const capture::Frame& side);
+  void report_status(bool final_line);
+  void write_summary();
+
+  Settings s_;
+  std::unique_ptr<capture::PairCapture> pc_;
+  std::optional<capture::RigCalibration> rig_;
+  std::unique_ptr<StationHttp> http_;
+  std::unique_ptr<V4l2Output> v4l2_;
+  std::unique_ptr<render::ViewSynthesizer> synth_;
+  capture::RigCalibration synth_rig_;
+  std::future<Reconstruction> fit_;
+  cv::Mat view_;
+  std::vector<double> latency_s_, out_times_;
+  std::vector<std::string> pairs_saved_, events_;
+  double t0_ = 0;
+  int frames_out_ = 0, fits_ = 0;
+};
+
+Station::Station(const Settings& s) : s_(s) {
+  sim::register_sim_cameras();
+  if (s_.output == "window") require_display("--output window");
+  if (s_.output.rfind("http:", 0) == 0)
+    http_ = std::make_unique<StationHttp>(s_.bind, to_int("output", s_.output.substr(5), 1, 65535));
+  if (s_.output.rfind("v4l2:", 0) == 0) v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
+  prepare_output_dir(s_.out);
+  rig_ = station_rig(s_.rig_file, s_.front, s_.side, s_.width, s_.height);
+  capture::PairCaptureOptions o;
+  o.width = s_.width;
+  o.height = s_.height;
+  o.fps = s_.fps;
+  pc_ = std::make_unique<capture::PairCapture>(s_.front, s_.side, o);
+}
+
+void Station::start_fit(const capture::FramePair& pair) {
+  if (fit_.valid()) return;  // one fit at a time
+  ReconstructOptions o;
+  o.rig = rig_;
+  fit_ = std::async(std::launch::async, [pair, o] { return reconstruct(pair.front.image, pair.side.image, o); });
+}
+
+void Station::finish_fit() {
+  if (!fit_.valid() || fit_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+  try {
+    Reconstruction r = fit_.get();
+    if (!synth_) {
+      synth_ = std::make_unique<render::ViewSynthesizer>(r.mesh, r.rig, r.front, r.side);
+      synth_rig_ = r.rig;
+    } else {
+      synth_->set_mesh(r.mesh);
+    }
+    ++fits_;
+    events_.push_back("model fitted (" + std::to_string(r.mesh.vertices.size()) + " vertices)");
+  } catch (const std::exception& e) {
+    events_.push_back(std::string("fit failed: ") + e.what());
+  }
+}
+
+void Station::take_pair() {
+  const auto pair = pc_->take_pair(1.5);
+  if (!pair) return events_.push_back("no synchronized pair within 1.5 s (is a camera gone?)");
+  char name[32];
+  std::snprintf(name, sizeof(name), "pair_%03zu", pairs_saved_.size() + 1);
+  pairs_saved_.push_back(save_pair(*pair, s_.out + "/pairs/" + name));
+  events_.push_back("pair saved: " + pairs_saved_.back());
+}
+
+void Station::handle(const std::string& action) {
+  if (action == "capture") take_pair();
+  if (action == "refit") {
+    if (auto p = pc_->latest_pair()) start_fit(*p);
+  }
+}
+
+capture::CameraModel view_camera(const capture::RigCalibration& rig, double yaw_deg, double pitch_deg) {
+  const double distance = std::max(rig.front.cam_from_head.translation().norm(), 1.0);
+  return capture::camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
+}
+
+void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
+  if (synth_) {
+    synth_->set_photos(front.image, side.image);
+    view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg)).view.image;
+  } else {
+    view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));
+    cv::putText(view_, "fitting the model...", {20, view_.rows / 2}, cv::FONT_HERSHEY_SIMPLEX, 1.0,
+                cv::Scalar(220, 220, 220), 2);
+  }
+  const double now = capture::monotonic_now_s();
+  latency_s_.push_back(now - std::min(front.timestamp_s, side.timestamp_s));
+  out_times_.push_back(now);
+  ++frames_out_;
+  if (v4l2_) v4l2_->write(view_);
+  if (http_) {
+    http_->publish("front", jpeg(front.image));
+    http_->publish("side", jpeg(side.image));
+    http_->publish("view", jpeg(view_));
+  }
+  if (s_.output == "window") {
+    cv::Mat row;
+    cv::hconcat(std::vector<cv::Mat>{front.image, side.image, view_}, row);
+    cv::imshow("orthoface station", row);
+    const int key = cv::waitKey(1);
+    if (key == 'c' || key == ' ') take_pair();
+    if (key == 'r') handle("refit");
+    if (key == 'q' || key == 27) g_stop = 1;
+  }
+}
+
+void Station::report_status(bool final_line) {
+  const capture::PairStats st = pc_->stats();
+  size_t k = out_times_.size();
+  size_t first = k;
+  while (first > 0 && out_times_[first - 1] > out_times_.back() - 1.0) --first;
+  const double fps = k - first > 1 ? (k - first - 1) / (out_times_.back() - out_times_[first]) : 0.0;
+  const double lat = latency_s_.empty() ? 0 : latency_s_.back();
+  char line[400];
+  std::snprintf(line, sizeof(line),
+                "out %.1f fps | cams %.1f/%.1f fps | skew %.1f ms | latency %.0f ms | drops %llu/%llu "
+                "| pairs %zu | %s/%s%s",
+                fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
+                static_cast<unsigned long long>(st.dropped_front),
+                static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size(),
+                st.front_connected ? "front ok" : "FRONT LOST", st.side_connected ? "side ok" : "SIDE LOST",
+                synth_ ? "" : " | no model yet");
+  std::fprintf(stderr, "\r%-118s%s", line, final_line ? "\n" : "");
+  if (http_) {
+    char json[400];
+    std::snprintf(json, sizeof(json),
+                  "{\"fps_out\": %.2f, \"fps_front\": %.2f, \"fps_side\": %.2f, \"skew_ms\": %.2f, "
+                  "\"latency_ms\": %.1f, \"dropped_front\": %llu, \"dropped_side\": %llu, \"pairs\": %zu}",
+                  fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
+                  static_cast<unsigned long long>(st.dropped_front),
+                  static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size());
+    http_->set_status(json);
+  }
+}
+
+void Station::write_summary() {
+  const capture::PairStats st = pc_->stats();
+  const double span = out_times_.size() > 1 ? out_times_.back() - out_times_.front() : 0;
+  // Skip the first second (model fit, caches) for the steady-state figures.
+  std::vector<double> lat;
+  for (size_t i = 0; i < latency_s_.size(); ++i)
+    if (out_times_[i] > t0_ + 1.0) lat.push_back(latency_s_[i] * 1e3);
+  const double mean_lat = lat.empty() ? 0 : std::accumulate(lat.begin(), lat.end(), 0.0) / lat.size();
+  std::ostringstream j;
+  j << "{\n  \"duration_s\": " << capture::monotonic_now_s() - t0_ << ",\n  \"frames_out\": " << frames_out_
+    << ",\n  \"fps_out\": " << (span > 0 ? (out_times_.size() - 1) / span : 0.0)
+    << ",\n  \"latency_ms\": {\"mean\": " << mean_lat << ", \"p95\": " << percentile(lat, 0.95)
+    << ", \"max\": " << percentile(lat, 1.0) << "},\n  \"skew_ms\": {\"mean\": " << st.skew_mean_s * 1e3
+    << ", \"max\": " << st.skew_max_s * 1e3 << "},\n  \"frames_front\": " << st.frames_front
+    << ", \"frames_side\": " << st.frames_side << ", \"pairs_formed\": " << st.pairs
+    << ",\n  \"dropped_front\": " << st.dropped_front << ", \"dropped_side\": " << st.dropped_side
+    << ", \"unpaired\": " << st.unpaired << ",\n  \"disconnects\": " << st.disconnects
+    << ", \"reconnects\": " << st.reconnects << ", \"fits\": " << fits_
+    << ",\n  \"pairs_saved\": [";
+  for (size_t i = 0; i < pairs_saved_.size(); ++i) j << (i ? ", " : "") << "\"" << pairs_saved_[i] << "\"";
+  j << "],\n  \"events\": [";
+  for (size_t i = 0; i < events_.size(); ++i) {
+    std::string e = events_[i];
+    std::replace(e.begin(), e.end(), '"', '\'');
+    j << (i ? ",\n    " : "\n    ") << "\"" << e << "\"";
+  }
+  j << "]\n}\n";
+  const std::string path = s_.out + "/station_summary.json";
+  std::ofstream(path + ".tmp") << j.str();
+  std::filesystem::rename(path + ".tmp", path);
+  std::cout << j.str();
+}
+
+int Station::run() {
+  t0_ = capture::monotonic_now_s();
+  if (auto first = pc_->take_pair(5.0)) start_fit(*first);
+  std::uint64_t last_front = ~0ull, last_side = ~0ull;
+  double next_status = t0_;
+  while (!g_stop && (s_.duration_s <= 0 || capture::monotonic_now_s() - t0_ < s_.duration_s)) {
+    finish_fit();
+    for (std::string& e : pc_->events()) events_.push_back(std::move(e));
+    if (http_)
+      for (const std::string& a : http_->take_actions()) handle(a);
+    const auto f = pc_->latest_front();
+    const auto s = pc_->latest_side();
+    const bool fresh = f && s && (f->sequence != last_front || s->sequence != last_side);
+    if (!fresh) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      continue;
+    }
+    last_front = f->sequence;
+    last_side = s->sequence;
+    render_view(*f, *s);
+    if (s_.refit_every > 0 && frames_out_ % s_.refit_every == 0) handle("refit");
+    if (capture::monotonic_now_s() >= next_status) report_status(false), next_status += 0.5;
+  }
+  report_status(true);
+  pc_->stop();
+  if (fit_.valid()) fit_.wait();
+  write_summary();
+  return 0;
+}
+
+}  // namespace
+
+int run_station(int argc, char** argv) {
+  const Command command = station_command();
+  const Args args = parse_args(command, argc, argv);
+  if (args.help) {
+    print_help(command);
+    return 0;
+  }
+  const Settings settings = settings_from(args);
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  Station station(settings);
+  return station.run();
+}
+
+}  // namespace orthoface::app

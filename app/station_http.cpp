@@ -1,0 +1,212 @@
+#include "app/station_http.h"
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+namespace orthoface::app {
+namespace {
+
+const char* kPage = R"html(<!doctype html>
+<html><head><meta charset="utf-8"><title>orthoface station</title>
+<style>body{font-family:sans-serif;background:#222;color:#eee;margin:12px}
+figure{display:inline-block;margin:6px}img{width:400px;border:1px solid #555}
+button{font-size:16px;margin:4px}</style></head><body>
+<h2>orthoface station</h2>
+<figure><img id="front" src="/front.jpg"><figcaption>front camera</figcaption></figure>
+<figure><img id="side" src="/side.jpg"><figcaption>side camera</figcaption></figure>
+<figure><img id="view" src="/view.jpg"><figcaption>rotated view</figcaption></figure>
+<div><button onclick="fetch('/capture')">take pair</button>
+<button onclick="fetch('/refit')">refit model</button>
+streams: <a href="/front.mjpg">front</a> <a href="/side.mjpg">side</a> <a href="/view.mjpg">view</a></div>
+<pre id="status"></pre>
+<script>
+function poll(id){const i=document.getElementById(id);const n=new Image();
+ n.onload=()=>{i.src=n.src;setTimeout(()=>poll(id),60)};n.onerror=()=>setTimeout(()=>poll(id),500);
+ n.src='/'+id+'.jpg?t='+Date.now();}
+['front','side','view'].forEach(poll);
+setInterval(()=>fetch('/status').then(r=>r.text()).then(t=>{document.getElementById('status').textContent=t}),500);
+</script></body></html>
+)html";
+
+bool send_all(int fd, const void* data, size_t n) {
+  const char* p = static_cast<const char*>(data);
+  while (n > 0) {
+    const ssize_t k = ::send(fd, p, n, MSG_NOSIGNAL);
+    if (k <= 0) {
+      if (k < 0 && errno == EINTR) continue;
+      return false;
+    }
+    p += k;
+    n -= size_t(k);
+  }
+  return true;
+}
+
+bool send_text(int fd, const std::string& s) { return send_all(fd, s.data(), s.size()); }
+
+void respond(int fd, const std::string& status, const std::string& type, const std::string& body) {
+  send_text(fd, "HTTP/1.1 " + status + "\r\nContent-Type: " + type +
+                    "\r\nCache-Control: no-store\r\nConnection: close\r\nContent-Length: " +
+                    std::to_string(body.size()) + "\r\n\r\n" + body);
+}
+
+// The request path of "GET /x?y HTTP/1.1", without the query; "" if unreadable.
+std::string read_path(int fd) {
+  std::string req;
+  char buf[1024];
+  while (req.find("\r\n\r\n") == std::string::npos && req.size() < 8192) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 2000) <= 0) return "";
+    const ssize_t k = ::recv(fd, buf, sizeof(buf), 0);
+    if (k <= 0) return "";
+    req.append(buf, size_t(k));
+  }
+  const size_t a = req.find(' '), b = req.find(' ', a + 1);
+  if (a == std::string::npos || b == std::string::npos) return "";
+  std::string path = req.substr(a + 1, b - a - 1);
+  return path.substr(0, path.find('?'));
+}
+
+}  // namespace
+
+StationHttp::StationHttp(const std::string& bind_address, int port) : port_(port) {
+  if (port < 1 || port > 65535)
+    throw std::invalid_argument("http port " + std::to_string(port) + " is outside 1..65535");
+  listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
+  if (listen_fd_ < 0) throw std::runtime_error("http: cannot create a socket: " + std::string(std::strerror(errno)));
+  const int one = 1;
+  setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
+  sockaddr_in addr{};
+  addr.sin_family = AF_INET;
+  addr.sin_port = htons(uint16_t(port));
+  if (inet_pton(AF_INET, bind_address.c_str(), &addr.sin_addr) != 1) {
+    ::close(listen_fd_);
+    throw std::invalid_argument("http: bad bind address '" + bind_address + "'");
+  }
+  if (::bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof(addr)) != 0 ||
+      ::listen(listen_fd_, 16) != 0) {
+    const int e = errno;
+    ::close(listen_fd_);
+    throw std::runtime_error("http: port " + std::to_string(port) + " on " + bind_address +
+                             (e == EADDRINUSE ? std::string(" is already in use")
+                                              : ": " + std::string(std::strerror(e))));
+  }
+  acceptor_ = std::thread([this] { accept_loop(); });
+}
+
+StationHttp::~StationHttp() {
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    stopping_ = true;
+  }
+  cv_.notify_all();
+  if (acceptor_.joinable()) acceptor_.join();
+  for (auto& t : workers_) t.join();
+  ::close(listen_fd_);
+}
+
+void StationHttp::accept_loop() {
+  for (;;) {
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      if (stopping_) return;
+    }
+    pollfd p{listen_fd_, POLLIN, 0};
+    if (::poll(&p, 1, 100) <= 0) continue;
+    const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
+    if (fd < 0) continue;
+    std::lock_guard<std::mutex> lock(m_);
+    workers_.emplace_back([this, fd] {
+      serve(fd);
+      ::close(fd);
+    });
+  }
+}
+
+void StationHttp::serve(int fd) {
+  const std::string path = read_path(fd);
+  if (path.empty()) return;
+  if (path == "/" || path == "/index.html") return respond(fd, "200 OK", "text/html", kPage);
+  if (path == "/status") {
+    std::lock_guard<std::mutex> lock(m_);
+    return respond(fd, "200 OK", "application/json", status_);
+  }
+  if (path == "/capture" || path == "/refit") {
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      actions_.push_back(path.substr(1));
+    }
+    return respond(fd, "202 Accepted", "application/json", "{\"queued\": \"" + path.substr(1) + "\"}");
+  }
+  const size_t dot = path.rfind('.');
+  const std::string name = dot == std::string::npos ? "" : path.substr(1, dot - 1);
+  const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+  if (ext == ".mjpg") return stream(fd, name);
+  if (ext == ".jpg") {
+    std::unique_lock<std::mutex> lock(m_);
+    auto it = images_.find(name);
+    if (it == images_.end()) return lock.unlock(), respond(fd, "404 Not Found", "text/plain", "no image yet\n");
+    const std::string body(it->second.first.begin(), it->second.first.end());
+    lock.unlock();
+    return respond(fd, "200 OK", "image/jpeg", body);
+  }
+  respond(fd, "404 Not Found", "text/plain", "not found\n");
+}
+
+void StationHttp::stream(int fd, const std::string& name) {
+  if (!send_text(fd, "HTTP/1.1 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=frame\r\n"
+                     "Cache-Control: no-store\r\nConnection: close\r\n\r\n"))
+    return;
+  unsigned long seen = 0;
+  for (;;) {
+    std::vector<unsigned char> jpeg;
+    {
+      std::unique_lock<std::mutex> lock(m_);
+      cv_.wait_for(lock, std::chrono::seconds(1), [&] {
+        auto it = images_.find(name);
+        return stopping_ || (it != images_.end() && it->second.second != seen);
+      });
+      if (stopping_) return;
+      auto it = images_.find(name);
+      if (it == images_.end() || it->second.second == seen) continue;
+      jpeg = it->second.first;
+      seen = it->second.second;
+    }
+    const std::string head = "--frame\r\nContent-Type: image/jpeg\r\nContent-Length: " +
+                             std::to_string(jpeg.size()) + "\r\n\r\n";
+    if (!send_text(fd, head) || !send_all(fd, jpeg.data(), jpeg.size()) || !send_text(fd, "\r\n"))
+      return;
+  }
+}
+
+void StationHttp::publish(const std::string& name, std::vector<unsigned char> jpeg) {
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    auto& slot = images_[name];
+    slot.first = std::move(jpeg);
+    ++slot.second;
+  }
+  cv_.notify_all();
+}
+
+void StationHttp::set_status(const std::string& json) {
+  std::lock_guard<std::mutex> lock(m_);
+  status_ = json;
+}
+
+std::vector<std::string> StationHttp::take_actions() {
+  std::lock_guard<std::mutex> lock(m_);
+  std::vector<std::string> out;
+  out.swap(actions_);
+  return out;
+}
+
+}  // namespace orthoface::app

@@ -1,0 +1,47 @@
+#pragma once
+
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace orthoface::app {
+
+// The station's tiny HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
+// /NAME.jpg and /NAME.mjpg (multipart stream) for each published image, /status (JSON), and
+// /capture, /refit which queue an action for the station loop. One thread per connection.
+class StationHttp {
+ public:
+  // Listens on bind_address:port. Throws std::runtime_error naming the port when it is in use or
+  // cannot be bound; std::invalid_argument for a port outside 1..65535.
+  StationHttp(const std::string& bind_address, int port);
+  ~StationHttp();  // stops the server and joins its threads
+  StationHttp(const StationHttp&) = delete;
+  StationHttp& operator=(const StationHttp&) = delete;
+
+  void publish(const std::string& name, std::vector<unsigned char> jpeg);  // "front", "side", "view"
+  void set_status(const std::string& json);
+  std::vector<std::string> take_actions();  // "capture" / "refit" requested since the last call
+  int port() const { return port_; }
+
+ private:
+  void accept_loop();
+  void serve(int fd);
+  void stream(int fd, const std::string& name);
+
+  int port_ = 0;
+  int listen_fd_ = -1;
+  bool stopping_ = false;
+  std::mutex m_;
+  std::condition_variable cv_;
+  std::map<std::string, std::pair<std::vector<unsigned char>, unsigned long>> images_;
+  std::string status_ = "{}";
+  std::vector<std::string> actions_;
+  std::vector<std::thread> workers_;
+  std::thread acceptor_;
+};
+
+}  // namespace orthoface::app
