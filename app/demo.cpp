@@ -5,8 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <algorithm>
 #include <string>
 #include <vector>
+
+#include <opencv2/imgproc.hpp>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -29,7 +32,7 @@ struct DemoSubject {
   std::string folder;  // output subfolder name
   sim::Head head;
   sim::Capture capture;
-  std::vector<cv::Mat> truth_views;  // one per kViewYawsDeg
+  std::vector<render::RenderResult> truth_views;  // one per kViewYawsDeg
 };
 
 // Stage timings, seconds.
@@ -76,17 +79,33 @@ void truth_view_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions&
                       render::Renderer& renderer) {
   for (DemoSubject& s : subjects)
     for (double yaw : kViewYawsDeg)
-      s.truth_views.push_back(sim::true_view(s.head, options, yaw * M_PI / 180, 0, renderer).image);
+      s.truth_views.push_back(sim::true_view(s.head, options, yaw * M_PI / 180, 0, renderer));
+}
+
+// One crop for all of a subject's tiles (same scale in every view): the union of the head
+// masks, padded, widened to 4:3 and clipped to the image.
+cv::Rect subject_crop(const DemoSubject& s) {
+  cv::Rect box = cv::boundingRect(s.capture.front_mask) | cv::boundingRect(s.capture.side_mask);
+  for (const auto& v : s.truth_views) box |= cv::boundingRect(v.mask);
+  const cv::Rect image(0, 0, s.capture.front.cols, s.capture.front.rows);
+  if (box.area() == 0) return image;
+  const double pad = 0.06 * std::max(box.width, box.height);
+  double w = box.width + 2 * pad, h = box.height + 2 * pad;
+  if (w < h * 4 / 3) w = h * 4 / 3;
+  else h = w * 3 / 4;
+  const cv::Point2d c(box.x + box.width / 2.0, box.y + box.height / 2.0);
+  return cv::Rect(cv::Point(int(c.x - w / 2), int(c.y - h / 2)), cv::Size(int(w), int(h))) & image;
 }
 
 // Final stage: one row per subject: front, side, then the true views.
 cv::Mat sheet_stage(const std::vector<DemoSubject>& subjects) {
   std::vector<render::Tile> tiles;
   for (const DemoSubject& s : subjects) {
-    tiles.push_back({s.capture.front, s.label + ": front photo"});
-    tiles.push_back({s.capture.side, s.label + ": side photo"});
+    const cv::Rect crop = subject_crop(s);
+    tiles.push_back({s.capture.front(crop), s.label + ": front photo"});
+    tiles.push_back({s.capture.side(crop), s.label + ": side photo"});
     for (size_t i = 0; i < s.truth_views.size(); ++i)
-      tiles.push_back({s.truth_views[i],
+      tiles.push_back({s.truth_views[i].image(crop),
                        s.label + ": truth yaw " + std::to_string(int(kViewYawsDeg[i]))});
   }
   render::ContactSheetOptions o;

@@ -123,10 +123,23 @@ TEST(SimulateCommand, HelpListsTheFlags) {
 }
 
 // Every bad input: one "error:" line, non-zero exit, nothing written.
-TEST(SimulateCommand, BadInputGivesOneErrorLineAndNoFiles) {
-  const fs::path work = testing::temp_dir("app_simulate_bad");
+void expect_clean_failures(const std::vector<std::string>& cases, const std::string& name) {
+  const fs::path work = testing::temp_dir(name);
   std::ofstream(work / "a_file") << "keep";
-  const std::vector<std::string> cases = {
+  fs::create_directories(work / "corrupt" / "lee_perry_smith_head");  // a scan that is garbage
+  std::ofstream(work / "corrupt" / "lee_perry_smith_head" / "LeePerrySmith.obj") << "v 1 2\nf 9 9 9\n";
+  for (const std::string& c : cases) {
+    const ProcessResult r = run(c, work);
+    EXPECT_NE(r.code, 0) << c;
+    EXPECT_EQ(count_lines(r.err), 1) << c << "\n" << r.err;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << c << "\n" << r.err;
+    EXPECT_FALSE(fs::exists(work / "out")) << c;
+    EXPECT_EQ(slurp(work / "a_file"), "keep") << c;
+  }
+}
+
+TEST(SimulateCommand, BadArgumentsGiveOneErrorLineAndNoFiles) {
+  expect_clean_failures({
       "simulate --subject abc --out out",
       "simulate --subject -3 --out out",
       "simulate --subject 1.5 --out out",
@@ -141,6 +154,12 @@ TEST(SimulateCommand, BadInputGivesOneErrorLineAndNoFiles) {
       "simulate --subject 1 --scan lee-perry-smith --out out",
       "simulate --scan nobody --out out",
       "simulate --scan lee-perry-smith --data /nonexistent --out out",
+      "simulate --scan lee-perry-smith --data corrupt --out out",
+  }, "app_simulate_bad_args");
+}
+
+TEST(SimulateCommand, BadValuesGiveOneErrorLineAndNoFiles) {
+  expect_clean_failures({
       "simulate --subject 1 --out out --rig fisheye",
       "simulate --subject 1 --out out --noise -2",
       "simulate --subject 1 --out out --blur lots",
@@ -149,15 +168,7 @@ TEST(SimulateCommand, BadInputGivesOneErrorLineAndNoFiles) {
       "simulate --subject 1 --out out --light 1,0.5,0,0,0",
       "simulate --subject 1 --out out --misalign 45",
       "simulate --subject 1 --out out --distance 10 --rig perspective",
-  };
-  for (const std::string& c : cases) {
-    const ProcessResult r = run(c, work);
-    EXPECT_NE(r.code, 0) << c;
-    EXPECT_EQ(count_lines(r.err), 1) << c << "\n" << r.err;
-    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << c << "\n" << r.err;
-    EXPECT_FALSE(fs::exists(work / "out")) << c;
-    EXPECT_EQ(slurp(work / "a_file"), "keep") << c;
-  }
+  }, "app_simulate_bad_values");
 }
 
 TEST(SimulateCommand, ScanRendersWhenTheDataIsPresent) {
