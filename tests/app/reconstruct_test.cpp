@@ -1,0 +1,126 @@
+// `orthoface reconstruct` and `orthoface eval`, run as separate processes like scripts do.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "tests/common/test_data.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+Result run(const std::string& args, const fs::path& work) {
+  const fs::path o = work / "stdout.txt", e = work / "stderr.txt";
+  const std::string cmd = "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args +
+                          " >'" + o.string() + "' 2>'" + e.string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(o), slurp(e)};
+}
+
+// One simulated subject shared by the tests of this file.
+class Reconstruct : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    work_ = new fs::path(orthoface::testing::temp_dir("reconstruct_cli"));
+    const Result r = run("simulate --subject 2 --out sim", *work_);
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  static void TearDownTestSuite() { delete work_; }
+  // Expects a failure with exactly one "error:" line and no output folder.
+  static void expect_clean_error(const std::string& args, const std::string& needle) {
+    const Result r = run(args, *work_);
+    EXPECT_NE(r.code, 0) << args;
+    EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    EXPECT_NE(r.err.find(needle), std::string::npos) << "wanted '" << needle << "' in " << r.err;
+    EXPECT_FALSE(fs::exists(*work_ / "bad_out")) << args;
+    EXPECT_FALSE(fs::exists(*work_ / "bad_out.tmp")) << args;
+  }
+  static fs::path* work_;
+};
+fs::path* Reconstruct::work_ = nullptr;
+
+TEST_F(Reconstruct, WithRigWritesFolderAndEvalMeasuresIt) {
+  const Result r = run("reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml "
+                       "--out rec --k 6",
+                       *work_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const char* f : {"head.obj", "head.mtl", "head.png", "front.png", "side.png", "rig.yaml",
+                        "landmarks.json", "observation.json", "report.json"})
+    EXPECT_TRUE(fs::exists(*work_ / "rec" / f)) << f;
+  EXPECT_FALSE(fs::exists(*work_ / "rec.tmp"));
+  const auto report = nlohmann::json::parse(slurp(*work_ / "rec" / "report.json"));
+  for (const char* stage : {"observe", "stereo", "adapt", "texture"})
+    EXPECT_TRUE(report["stage_ms"].contains(stage)) << stage;
+  EXPECT_NE(report["scale"].get<std::string>().find("rig file"), std::string::npos);
+  EXPECT_GE(report["features_found"].size(), 10u);
+  const Result e = run("eval rec --truth sim", *work_);
+  ASSERT_EQ(e.code, 0) << e.err;
+  const auto ev = nlohmann::json::parse(slurp(*work_ / "rec" / "eval.json"));
+  EXPECT_LT(ev["relative_error"].get<double>(), 0.01);  // < 1 % of the face diagonal
+  EXPECT_LT(ev["landmark_mean_mm"].get<double>(), 10.0);
+  EXPECT_TRUE(fs::exists(*work_ / "rec" / "error.ply"));
+  EXPECT_FALSE(cv::imread((*work_ / "rec" / "error.png").string()).empty());
+}
+
+TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
+  const Result r = run("reconstruct --front sim/front.png --side sim/side.png --out norig "
+                       "--method interpolate",
+                       *work_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(*work_ / "norig" / "report.json"));
+  EXPECT_NE(report["scale"].get<std::string>().find("no rig file"), std::string::npos);
+  EXPECT_EQ(report["rig_source"], "default (no rig file)");
+}
+
+TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
+  const std::string ok = "--front sim/front.png --side sim/side.png --out bad_out";
+  expect_clean_error("reconstruct --side sim/side.png --out bad_out", "--front");
+  expect_clean_error("reconstruct --front missing.png --side sim/side.png --out bad_out", "missing.png");
+  expect_clean_error("reconstruct " + ok + " --k 0", "--k");
+  expect_clean_error("reconstruct " + ok + " --rig sim/rig.yaml --k 100000", "landmark count");
+  expect_clean_error("reconstruct " + ok + " --method best", "--method");
+  expect_clean_error("reconstruct " + ok + " --side-camera up", "--side-camera");
+  std::ofstream(*work_ / "not_image.png") << "this is text";
+  expect_clean_error("reconstruct --front not_image.png --side sim/side.png --out bad_out",
+                     "not_image.png");
+  std::ofstream(*work_ / "bad_rig.yaml") << "%YAML:1.0\n---\northoface_rig: 1\nfront: [1, 2\n";
+  expect_clean_error("reconstruct " + ok + " --rig bad_rig.yaml", "bad_rig.yaml");
+  // Photos without a face: nothing to reconstruct.
+  cv::imwrite((*work_ / "blank.png").string(), cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200)));
+  expect_clean_error("reconstruct --front blank.png --side blank.png --out bad_out", "");
+}
+
+TEST_F(Reconstruct, EvalBadInputs) {
+  expect_clean_error("eval sim --truth sim", "head.obj");  // not a reconstruction
+  expect_clean_error("eval missing_dir --truth sim", "missing_dir");
+}
+
+TEST_F(Reconstruct, HelpPrintsUsage) {
+  for (const char* cmd : {"reconstruct --help", "eval --help"}) {
+    const Result r = run(cmd, *work_);
+    EXPECT_EQ(r.code, 0);
+    EXPECT_NE(r.out.find("usage"), std::string::npos) << r.out;
+  }
+}
+
+}  // namespace
+}  // namespace orthoface::app
