@@ -56,6 +56,10 @@ struct Sample {
   }
 };
 
+struct Column {
+  double theta, cos_theta, hairline;
+};
+
 struct Painter {
   const HeadSurface& s;
   const HeadAnchors& a;
@@ -74,7 +78,7 @@ struct Painter {
     hair = p.hair_darkness < 0.5 ? mix(blond, brown, 2 * p.hair_darkness)
                                  : mix(brown, black, 2 * p.hair_darkness - 1);
     brow = mix(hair, Rgb(0.12, 0.08, 0.06), 0.35);
-    lip = skin.cwiseProduct(Rgb(0.84, 0.58, 0.57)) + Rgb(0.05, 0, 0.01);
+    lip = mix(skin, skin.cwiseProduct(Rgb(0.84, 0.52, 0.52)) + Rgb(0.06, 0, 0.01), 0.8);
     seed = static_cast<std::uint32_t>(p.head_width * 1000 + p.nose_length * 7777 +
                                       p.skin_tone * 99991 + p.eye_spacing * 313);
   }
@@ -176,15 +180,16 @@ struct Painter {
   }
 
   // Colour at surface point q (y exact) with the grid-interpolated sample.
-  Rgb color(double theta, const Eigen::Vector3d& q, const Sample& g, double fine,
+  // Colour at surface point q (y exact) in column `col` (azimuth, cos, hairline precomputed).
+  Rgb color(const Column& col, const Eigen::Vector3d& q, const Sample& g, double fine,
             double strand) const {
     const double y = q.y();
     Rgb c = skin.cwiseProduct(g.tint) * (1 + fine);
-    const double hl = hairline(theta) + g.hair_noise;
+    const double hl = col.hairline + g.hair_noise;
     const double h = inside(hl - y, 1.0) * (1 - smoothstep(0.1, 0.4, g.ear_w));
     if (h > 0) c = mix(c, hair * (1 + 0.15 * strand + 0.5 * fine), h);
     if (g.ear_w > 0.01) c = ear(c, g.ear);
-    if (q.z() > 20 && std::cos(theta) > 0.3) {
+    if (q.z() > 20 && col.cos_theta > 0.3 && y < a.y_brow + 16 && y > a.y_mouth - 16) {
       c = brows(c, q.x(), y, strand);
       c = eye(c, q.x(), y, q.x() >= 0 ? 1 : -1);
       c = mouth(c, q.x(), y);
@@ -227,6 +232,11 @@ cv::Mat head_texture(const HeadSurface& surface, const HeadParametrization& para
   const std::vector<Sample> grid = sample_grid(surface, param, painter, g);
   // Hair strands run vertically (noise per column, smoothed); brow hairs too, roughly.
   std::vector<double> strands(size);
+  std::vector<Column> cols(size);
+  for (int c = 0; c < size; ++c) {
+    const double th = HeadParametrization::theta((c + 0.5) / size);
+    cols[c] = {th, std::cos(th), painter.hairline(th)};
+  }
   for (int c = 0; c < size; ++c)
     strands[c] = 0.5 * texel_noise(c, painter.seed) + 0.25 * texel_noise(c - 1, painter.seed) +
                  0.25 * texel_noise(c + 1, painter.seed);
@@ -245,7 +255,7 @@ cv::Mat head_texture(const HeadSurface& surface, const HeadParametrization& para
       const Sample s = (grid[k] * (1 - wc) + grid[k + 1] * wc) * (1 - wr) +
                        (grid[k + g + 1] * (1 - wc) + grid[k + g + 2] * wc) * wr;
       const double fine = 0.025 * texel_noise(r * size + c, painter.seed + 5);
-      const Rgb rgb = painter.color(HeadParametrization::theta(u), Eigen::Vector3d(s.q.x(), y, s.q.z()),
+      const Rgb rgb = painter.color(cols[c], Eigen::Vector3d(s.q.x(), y, s.q.z()),
                                     s, fine, strands[c]);
       row[c] = cv::Vec3b(static_cast<uchar>(255 * rgb[2] + 0.5), static_cast<uchar>(255 * rgb[1] + 0.5),
                          static_cast<uchar>(255 * rgb[0] + 0.5));

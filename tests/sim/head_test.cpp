@@ -8,11 +8,13 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
 #include "model/topology.h"
 #include "render/renderer.h"
 #include "vision/landmarks.h"
+#include "tests/common/test_data.h"
 #include "tests/sim/mesh_distance.h"
 
 namespace orthoface::sim {
@@ -252,6 +254,52 @@ TEST(HeadTexture, FrontViewShowsPupilsLipsAndSkinAtTheLandmarks) {
     const cv::Vec3b lip = bgr("lip_lower");
     EXPECT_GT(lip[2] - lip[1], cheek[2] - cheek[1] + 10) << "seed " << seed;  // redder than skin
     EXPECT_GT(lum(cheek), 60) << "seed " << seed;
+  }
+}
+
+}  // namespace
+}  // namespace orthoface::sim
+
+namespace orthoface::sim {
+namespace {
+
+// Renders seeds 0..2 front / 45 degrees / side with light, as a person would look at them
+// (PNG sheets in the test temp dir: orthoface_test_head_views/seed_N.png), and checks what a
+// face must show: left-right symmetric front silhouette, the head filling a human-sized area.
+TEST(HeadRender, FrontSideAnd45ViewsLookLikeAHead) {
+  const auto dir = testing::temp_dir("head_views");
+  render::Renderer renderer;
+  capture::CameraModel cam;
+  cam.width = 400;
+  cam.height = 480;
+  cam.fx = cam.fy = 1.4;  // pixels per mm, orthographic
+  cam.cx = 200;
+  cam.cy = 250;
+  render::RenderOptions ro;
+  ro.background = {200, 200, 200};
+  ro.light.ambient = 0.55;
+  ro.light.diffuse = 0.55;
+  ro.light.direction_head = Eigen::Vector3d(0.3, -0.4, -1).normalized();
+  for (int seed = 0; seed < 3; ++seed) {
+    const Head h = make_head(seed);
+    std::vector<cv::Mat> views;
+    for (double yaw_deg : {0.0, 45.0, 90.0}) {
+      const auto c = capture::camera_at(cam, yaw_deg * M_PI / 180, 0, 1000);
+      const render::RenderResult r = renderer.render(h.mesh, c, ro);
+      const double area_mm2 = cv::countNonZero(r.mask) / (cam.fx * cam.fy);
+      EXPECT_GT(area_mm2, 3.5e4) << "seed " << seed << " yaw " << yaw_deg;
+      EXPECT_LT(area_mm2, 8.0e4) << "seed " << seed << " yaw " << yaw_deg;
+      if (yaw_deg == 0) {
+        cv::Mat flipped;
+        cv::flip(r.mask, flipped, 1);
+        // x = 0 is the boundary between columns 199 and 200, so the mirror is a plain flip.
+        EXPECT_LT(cv::norm(r.mask, flipped, cv::NORM_L1) / 255.0, 0.01 * cv::countNonZero(r.mask));
+      }
+      views.push_back(r.image);
+    }
+    cv::Mat sheet;
+    cv::hconcat(views, sheet);
+    EXPECT_TRUE(cv::imwrite((dir / ("seed_" + std::to_string(seed) + ".png")).string(), sheet));
   }
 }
 
