@@ -99,7 +99,7 @@ HeadParams head_params(int seed) {
   p.ear_size = vary(62, 4, 54, 70);
   p.ear_protrusion = vary(14, 3, 8, 20);
   p.cheek_fullness = vary(0.5, 0.25, 0, 1);
-  p.neck_width = vary(112, 8, 95, 130);
+  p.neck_width = vary(105, 7, 92, 120);
   p.neck_length = vary(75, 8, 60, 90);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   p.skin_tone = u01(rng);

@@ -41,7 +41,7 @@ struct HeadParams {
   double ear_size = 62;          // ear length (54..70)
   double ear_protrusion = 14;    // how far the ears stand out (8..20)
   double cheek_fullness = 0.5;   // 0 gaunt .. 1 full
-  double neck_width = 112;       // (95..130)
+  double neck_width = 105;       // (92..120)
   double neck_length = 75;       // menton to the bottom of the neck (60..90)
   double skin_tone = 0.3;        // 0 very light .. 1 very dark
   double skin_redness = 0.5;     // 0 olive .. 1 pink

@@ -116,7 +116,7 @@ struct Painter {
     const double hw = p.eye_width / 2, sx = (x - xe) / hw;
     if (std::abs(sx) > 1.25 || std::abs(y - ye) > 12) return c;
     const double k = std::max(0.0, 1 - sx * sx);
-    const double yu = ye + 0.2 * p.eye_width * std::pow(k, 0.75);
+    const double yu = ye + 0.18 * p.eye_width * std::pow(k, 0.75);
     const double yl = ye - 0.13 * p.eye_width * std::pow(k, 0.85);
     c *= 1 - 0.12 * inside(std::abs(y - (yu + 4.5)) - 1.2, 1.0);    // lid crease
     const double open = inside(std::abs(sx) - 1, 0.04) * inside(y - yu) * inside(yl - y);
