@@ -3,10 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#if __has_include("sim/scan.h")
 #include "sim/scan.h"
-#define ORTHOFACE_HAVE_SCAN_LOADER 1
-#endif
 
 namespace orthoface::app {
 
@@ -25,11 +22,7 @@ sim::Head load_scan(const std::string& name, const std::string& data_dir) {
   const std::filesystem::path dir = std::filesystem::path(data_dir) / "lee_perry_smith_head";
   if (!std::filesystem::is_directory(dir))
     throw std::runtime_error("scan folder " + dir.string() + ": not found (see --data)");
-#ifdef ORTHOFACE_HAVE_SCAN_LOADER
   return sim::lee_perry_smith_head(dir.string());
-#else
-  throw std::runtime_error("--scan: this build has no scan loader (sim/scan.h)");
-#endif
 }
 
 }  // namespace orthoface::app

@@ -12,6 +12,8 @@
 
 #include "render/shapes.h"
 #include "sim/head.h"
+#include "sim/sim_folder.h"
+#include "sim/scan.h"
 #include "sim/truth_json.h"
 #include "tests/common/test_data.h"
 
@@ -175,6 +177,21 @@ TEST(Rig, SimHeadLandmarksLandWhereTheRendererDrawsThem) {
   EXPECT_LT(worst, 0.5);
 }
 
+TEST(Rig, ScanLandmarksLandWhereTheRendererDrawsThem) {
+  const std::string dir = testing::shared_data("lee_perry_smith_head");
+  if (dir.empty()) GTEST_SKIP() << "no ../shared/data/lee_perry_smith_head";
+  render::Renderer renderer;
+  const Head head = lee_perry_smith_head(dir);
+  const Capture cap = simulate_capture(head, {}, renderer);
+  const double err = max_projection_error(renderer, head, cap);
+  std::cout << "Lee Perry-Smith scan, ideal rig: max landmark projection error " << err << " px\n";
+  EXPECT_LT(err, 0.5);
+  for (const auto& [name, t] : cap.landmarks)
+    EXPECT_NEAR(t.front_px.y(), t.side_px.y(), 1e-9) << name;  // seed 004 eq. 1
+  EXPECT_TRUE(cap.landmarks.at("nose_tip").visible_front);
+  EXPECT_GT(cv::countNonZero(cap.front_mask), 0.2 * cap.front_mask.total());
+}
+
 TEST(Rig, PerspectiveRigWithPoseErrorsStillMatchesTheRenderer) {
   render::Renderer renderer;
   RigOptions o;
@@ -185,7 +202,9 @@ TEST(Rig, PerspectiveRigWithPoseErrorsStillMatchesTheRenderer) {
   o.side_error = {-0.7, 1.2, 0.5, {-4, 1, 2}};
   const Head head = ellipsoid_head();
   const Capture cap = simulate_capture(head, o, renderer);
-  EXPECT_LT(max_projection_error(renderer, head, cap), 0.5);
+  const double err = max_projection_error(renderer, head, cap);
+  std::cout << "perspective rig with pose errors: max landmark projection error " << err << " px\n";
+  EXPECT_LT(err, 0.5);
   // The nominal rig is what a station believes; it differs from the true one.
   const Eigen::Vector3d nose = head.landmarks.at("nose_tip");
   EXPECT_GT((capture::project(cap.nominal_rig.front, nose) - cap.landmarks.at("nose_tip").front_px)
@@ -337,6 +356,8 @@ TEST(Rig, RejectsBadInput) {
   RigOptions bad;
   bad.width = 0;
   EXPECT_THROW(simulate_capture(ellipsoid_head(), bad, renderer), std::invalid_argument);
+  EXPECT_THROW(nominal_rig(bad), std::invalid_argument);
+  EXPECT_THROW(true_rig(bad), std::invalid_argument);
   EXPECT_THROW(background_image({}, 2), std::invalid_argument);
   EXPECT_THROW(degrade(cv::Mat(), {}, 0), std::invalid_argument);
   EXPECT_THROW(degrade(cv::Mat(4, 4, CV_8U), {}, 0), std::invalid_argument);
@@ -348,6 +369,27 @@ TEST(Rig, TinyImageIsADegenerateButValidCapture) {
   const Capture cap = simulate_capture(ellipsoid_head(), o);
   EXPECT_EQ(cap.front.size(), cv::Size(1, 1));
   EXPECT_FALSE(cap.landmarks.at("chin").visible_front);  // outside the 1-pixel image
+}
+
+TEST(SimulationFolder, WritesEveryFileOrNone) {
+  RigOptions o;
+  o.width = o.height = 1;  // degenerate: a 1x1 capture still makes a complete folder
+  const Head head = ellipsoid_head();
+  const Capture cap = simulate_capture(head, o);
+  const auto dir = testing::temp_dir("sim_folder");
+  write_simulation(dir.string(), head, cap, o);
+  int files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir)) {
+    EXPECT_EQ(e.path().extension().string().find("tmp"), std::string::npos) << e.path();
+    ++files;
+  }
+  EXPECT_EQ(files, 11);  // 6 images, truth.obj/.mtl/.png, landmarks.json, rig.yaml
+  EXPECT_THROW(write_simulation((dir / "missing").string(), head, cap, o), std::runtime_error);
+  Capture broken = cap;
+  broken.side = cv::Mat();  // cannot be encoded: nothing of the new set may appear
+  const auto dir2 = testing::temp_dir("sim_folder_broken");
+  EXPECT_THROW(write_simulation(dir2.string(), head, broken, o), std::runtime_error);
+  EXPECT_TRUE(std::filesystem::is_empty(dir2));
 }
 
 TEST(TruthJson, RoundTrips) {
