@@ -23,7 +23,8 @@ namespace lc = libcamera;
 // torn down by static destructors while a camera thread still runs.
 lc::CameraManager& manager() {
   static lc::CameraManager* m = [] {
-    if (!std::getenv("LIBCAMERA_LOG_LEVELS")) lc::logSetLevel("*", "ERROR");
+    // Quiet by default (no IPA modules here is a warning, not our error); the user's setting wins.
+    setenv("LIBCAMERA_LOG_LEVELS", "*:ERROR", 0);
     auto* cm = new lc::CameraManager();
     if (cm->start() != 0) throw std::runtime_error("libcamera: CameraManager failed to start");
     return cm;

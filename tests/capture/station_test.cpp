@@ -1,0 +1,200 @@
+// The capture commands end to end: the orthoface binary on the simulated rig and through the
+// fake V4L2 device; the HTTP page in headless Chromium when it is installed.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "tests/common/test_data.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+struct CmdResult {
+  int code = -1;
+  std::string output;
+};
+
+// Runs `args` with the orthoface binary (environment prefix `env`), stdout + stderr captured.
+CmdResult orthoface(const std::string& args, const std::string& env = "") {
+  const std::string cmd = env + " " + ORTHOFACE_BINARY + " " + args + " 2>&1";
+  CmdResult r;
+  FILE* p = popen(cmd.c_str(), "r");
+  char buf[4096];
+  while (p && fgets(buf, sizeof(buf), p)) r.output += buf;
+  const int status = p ? pclose(p) : -1;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string http_get(int port, const std::string& path) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(uint16_t(port));
+  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+  std::string out;
+  if (connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)) == 0) {
+    const std::string req = "GET " + path + " HTTP/1.1\r\nHost: x\r\n\r\n";
+    send(fd, req.data(), req.size(), MSG_NOSIGNAL);
+    char buf[65536];
+    ssize_t k;
+    while ((k = recv(fd, buf, sizeof(buf), 0)) > 0) out.append(buf, size_t(k));
+  }
+  close(fd);
+  return out;
+}
+
+int free_port() {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a));
+  socklen_t n = sizeof(a);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
+  close(fd);
+  return ntohs(a.sin_port);
+}
+
+bool wait_for(int port, const std::string& path, const std::string& needle, double seconds) {
+  for (auto t = std::chrono::steady_clock::now(); std::chrono::steady_clock::now() - t < std::chrono::duration<double>(seconds);) {
+    if (http_get(port, path).find(needle) != std::string::npos) return true;
+    std::this_thread::sleep_for(100ms);
+  }
+  return false;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+TEST(StationCommand, BadInputGivesOneErrorLine) {
+  const auto dir = orthoface::testing::temp_dir("station_bad");
+  CmdResult r = orthoface("station --front sim:1/front --side sim:1/front --out " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("error: station: --front and --side are the same device"), std::string::npos) << r.output;
+  r = orthoface("station --front /dev/video_orthoface_missing --side sim:1/side --duration 1 --output http:" +
+                std::to_string(free_port()) + " --out " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("error: camera /dev/video_orthoface_missing: no such device"), std::string::npos) << r.output;
+  r = orthoface("station --front sim:1/front --side sim:1/side --output window --out " + dir.string(), "DISPLAY=");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
+  r = orthoface("station --front sim:1/front --side sim:1/side --output vga --out " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  r = orthoface("station --front sim:1/front --side sim:1/side --output v4l2:/dev/null --out " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("not a video output device"), std::string::npos) << r.output;
+}
+
+TEST(StationCommand, OccupiedPortIsAnError) {
+  const int fd = socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
+  ASSERT_EQ(bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a)), 0);
+  listen(fd, 1);
+  socklen_t n = sizeof(a);
+  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
+  const int port = ntohs(a.sin_port);
+  const auto dir = orthoface::testing::temp_dir("station_port");
+  const CmdResult r = orthoface("station --front sim:1/front --side sim:1/side --duration 1 --output http:" +
+                          std::to_string(port) + " --out " + dir.string());
+  close(fd);
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("error: http: port " + std::to_string(port) + " on 127.0.0.1 is already in use"),
+            std::string::npos) << r.output;
+}
+
+TEST(CaptureCommand, SavesOneSynchronizedPair) {
+  const auto dir = orthoface::testing::temp_dir("capture_cmd");
+  const CmdResult r = orthoface("capture --front sim:2/front --side sim:2/side --size 320x240 --no-reconstruct --out " +
+                          dir.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const cv::Mat f = cv::imread((dir / "pair/front.png").string()), s = cv::imread((dir / "pair/side.png").string());
+  EXPECT_EQ(f.size(), cv::Size(320, 240));
+  EXPECT_EQ(s.size(), cv::Size(320, 240));
+  EXPECT_NE(read_text(dir / "pair/pair.json").find("\"skew_ms\": 7."), std::string::npos);  // sim phase 7 ms
+  EXPECT_FALSE(fs::exists(dir / "pair.tmp"));
+  const CmdResult again = orthoface("capture --front sim:2/front --side sim:2/side --no-reconstruct --out " + dir.string());
+  EXPECT_EQ(again.code, 1);  // never overwrites a pair
+  EXPECT_NE(again.output.find("already exists"), std::string::npos);
+}
+
+TEST(CalibrateCommand, BadInputGivesOneErrorLine) {
+  const auto dir = orthoface::testing::temp_dir("calibrate_cmd");
+  fs::create_directories(dir / "f");
+  fs::create_directories(dir / "s");
+  cv::imwrite((dir / "f/001.png").string(), cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(200)));
+  CmdResult r = orthoface("calibrate --front-images " + (dir / "f").string() + " --side-images " +
+                    (dir / "s").string() + " --out " + (dir / "rig.yaml").string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("error: calibrate_rig: 1 front images but 0 side"), std::string::npos) << r.output;
+  r = orthoface("calibrate --front-images " + (dir / "nope").string() + " --side-images x --out r.yaml");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
+  r = orthoface("calibrate --front-images a --front sim:0/front --out r.yaml");
+  EXPECT_EQ(r.code, 1);
+  r = orthoface("calibrate --front-images a --side-images b --board 6x6 --out r.yaml");
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("cols + rows must be odd"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "rig.yaml"));
+}
+
+// The station over HTTP on the simulated rig: page, live JPEGs, a pair on request, the summary;
+// the page rendered by headless Chromium (when installed) shows the live images.
+TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
+  const auto dir = orthoface::testing::temp_dir("station_http");
+  const int port = free_port();
+  CmdResult run;
+  std::thread station([&] {
+    run = orthoface("station --front sim:4/front --side sim:4/side --yaw 35 --duration 9 --output http:" +
+                    std::to_string(port) + " --out " + (dir / "out").string());
+  });
+  ASSERT_TRUE(wait_for(port, "/status", "fps_out", 5.0));
+  EXPECT_NE(http_get(port, "/").find("<img id=\"view\""), std::string::npos);
+  EXPECT_NE(http_get(port, "/front.jpg").find("image/jpeg"), std::string::npos);
+  EXPECT_NE(http_get(port, "/capture").find("queued"), std::string::npos);
+  EXPECT_NE(http_get(port, "/nothing").find("404"), std::string::npos);
+  const std::string chromium = fs::exists("/usr/bin/chromium") ? "/usr/bin/chromium" : "";
+  const fs::path shot = dir / "station_page.png";
+  if (!chromium.empty()) {
+    std::this_thread::sleep_for(2500ms);  // let the model fit so the rotated view shows a face
+    const std::string cmd = chromium + " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                            "--window-size=1280,560 --virtual-time-budget=2000 --screenshot=" +
+                            shot.string() + " http://127.0.0.1:" + std::to_string(port) + "/ >/dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  }
+  station.join();
+  ASSERT_EQ(run.code, 0) << run.output;
+  const std::string summary = read_text(dir / "out/station_summary.json");
+  EXPECT_NE(summary.find("pair_001"), std::string::npos) << summary;
+  EXPECT_TRUE(fs::exists(dir / "out/pairs/pair_001/front.png"));
+  if (chromium.empty()) GTEST_SKIP() << "chromium not installed: page screenshot not taken";
+  const cv::Mat png = cv::imread(shot.string());
+  ASSERT_FALSE(png.empty());
+  // Three live images: the page background is flat (#222), the images are not.
+  cv::Scalar mean, sd;
+  cv::meanStdDev(png(cv::Rect(20, 80, png.cols - 40, 300)), mean, sd);
+  EXPECT_GT(sd[0] + sd[1] + sd[2], 30.0);
+  fs::copy_file(shot, fs::temp_directory_path() / "orthoface_station_page.png",
+                fs::copy_options::overwrite_existing);
+}
+
+}  // namespace
