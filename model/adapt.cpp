@@ -64,20 +64,25 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
                                 " must be in [1, " + std::to_string(landmarks.size()) +
                                 "] (the landmark count)");
   std::vector<Eigen::Vector3d> out(points.size());
-  std::vector<std::pair<double, int>> d(landmarks.size());
+  std::vector<std::pair<double, int>> best(k);  // the k nearest so far, ascending
   for (size_t j = 0; j < points.size(); ++j) {
-    for (size_t i = 0; i < landmarks.size(); ++i)
-      d[i] = {(landmarks[i] - points[j]).squaredNorm(), static_cast<int>(i)};
-    std::partial_sort(d.begin(), d.begin() + k, d.end());
-    if (d[0].first < 1e-18) {  // on a landmark: its own displacement (the limit of eq. 3.8)
-      out[j] = displacements[d[0].second];
+    int filled = 0;
+    for (size_t i = 0; i < landmarks.size(); ++i) {
+      const double d2 = (landmarks[i] - points[j]).squaredNorm();
+      if (filled == k && d2 >= best[k - 1].first) continue;
+      int pos = filled < k ? filled++ : k - 1;
+      while (pos > 0 && best[pos - 1].first > d2) best[pos] = best[pos - 1], --pos;
+      best[pos] = {d2, static_cast<int>(i)};
+    }
+    if (best[0].first < 1e-18) {  // on a landmark: its own displacement (the limit of eq. 3.8)
+      out[j] = displacements[best[0].second];
       continue;
     }
     Eigen::Vector3d num = Eigen::Vector3d::Zero();
     double den = 0.0;
     for (int n = 0; n < k; ++n) {  // seed 002 eq. 3.8, weights 1 / d^2
-      num += displacements[d[n].second] / d[n].first;
-      den += 1.0 / d[n].first;
+      num += displacements[best[n].second] / best[n].first;
+      den += 1.0 / best[n].first;
     }
     out[j] = num / den;
   }
@@ -133,7 +138,9 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
       options.method == AdaptMethod::Nnwa
           ? detail::move_by_nnwa(aligned, r.targets, options.k)
           : detail::move_by_interpolation(base, aligned, r.targets, options.k);
-  const auto adjacency = detail::vertex_adjacency(base.mesh);
+  const auto& adjacency = base.neighbours.size() == base.mesh.vertices.size()
+                              ? base.neighbours
+                              : detail::vertex_adjacency(base.mesh);
   detail::blend_near_features(adjacency, aligned, r.targets, options, moved);
   r.mesh = base.mesh;
   r.mesh.vertices = moved;

@@ -210,29 +210,34 @@ std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
                                  int max_passes, TriMesh& mesh) {
   std::vector<bool> is_target(mesh.vertices.size(), false);
   for (int v : targets.vertices) is_target[v] = true;
-  const int initial = count_folds(mesh, reference);
-  int folds = initial;
-  for (int pass = 0; pass < max_passes && folds > 0; ++pass) {
+  auto normal = [](const TriMesh& m, const std::array<int, 3>& f) {
+    return (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+  };
+  std::vector<Eigen::Vector3d> n0;
+  for (const auto& f : reference.triangles) n0.push_back(normal(reference, f));
+  auto flipped = [&]() {
+    std::vector<int> out;
+    for (size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (normal(mesh, mesh.triangles[t]).dot(n0[t]) <= 0) out.push_back(static_cast<int>(t));
+    return out;
+  };
+  std::vector<int> folds = flipped();
+  const int initial = static_cast<int>(folds.size());
+  for (int pass = 0; pass < max_passes && !folds.empty(); ++pass) {
     const bool move_targets = pass >= max_passes / 2;  // data points give way last
     std::set<int> loose;
-    for (const auto& f : mesh.triangles) {
-      const Eigen::Vector3d n = (mesh.vertices[f[1]] - mesh.vertices[f[0]])
-                                    .cross(mesh.vertices[f[2]] - mesh.vertices[f[0]]);
-      const Eigen::Vector3d n0 = (reference.vertices[f[1]] - reference.vertices[f[0]])
-                                     .cross(reference.vertices[f[2]] - reference.vertices[f[0]]);
-      if (n.dot(n0) > 0) continue;
-      for (int v : f)
+    for (int t : folds)
+      for (int v : mesh.triangles[t])
         for (int w : adjacency[v]) loose.insert(w), loose.insert(v);
-    }
     for (int v : loose) {
       if (is_target[v] && !move_targets) continue;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (int w : adjacency[v]) mean += mesh.vertices[w];
       mesh.vertices[v] = 0.5 * mesh.vertices[v] + 0.5 * mean / double(adjacency[v].size());
     }
-    folds = count_folds(mesh, reference);
+    folds = flipped();
   }
-  return {initial, folds};
+  return {initial, static_cast<int>(folds.size())};
 }
 
 }  // namespace detail

@@ -102,6 +102,13 @@ BaseMesh base_mesh(const BaseMeshOptions& options) {
       b.mesh.triangles.push_back({a, c, d});
       b.mesh.triangles.push_back({a, d, bb});
     }
+  b.neighbours.assign(b.mesh.vertices.size(), {});
+  for (const auto& f : b.mesh.triangles)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        auto& n = b.neighbours[f[i]];
+        if (i != j && std::find(n.begin(), n.end(), f[j]) == n.end()) n.push_back(f[j]);
+      }
   // Feature vertices: the vertex nearest each generic landmark (ears are outside the face).
   for (const auto& [name, p] : generic_landmarks()) {
     if (name.rfind("ear_", 0) == 0) continue;

@@ -34,6 +34,7 @@ struct BaseMesh {
   std::vector<double> slice_heights;     // y (mm) of each slice
   std::vector<std::string> slice_names;  // "" or the landmark whose height it stands for
   std::map<std::string, int> features;   // landmark name -> vertex id
+  std::vector<std::vector<int>> neighbours;  // vertex adjacency (one-ring), per vertex
   int centre(int slice) const { return slices[slice][slices[slice].size() / 2]; }
 };
 
