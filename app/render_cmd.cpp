@@ -1,0 +1,236 @@
+// orthoface render: new views of a reconstruction folder by texture inheritance (seed 004 §6).
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "capture/camera_model.h"
+#include "model/mesh_io.h"
+#include "render/contact_sheet.h"
+#include "render/new_view.h"
+#include "render/textured_export.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+Command render_command() {
+  return {"render",
+          "Render a reconstruction folder (head.obj, front.png, side.png, rig.yaml) from a new "
+          "yaw / pitch: every visible surface point takes its colour from the photo it faces "
+          "more (pick) or a cosine-weighted mix (weighted), never from a photo that cannot see "
+          "it. Without rig.yaml the ideal rig of the photo size (1.6 px/mm) is assumed.",
+          "orthoface render DIR --yaw DEG [options] -o view.png   |   orthoface render DIR --export head.glb",
+          {{"yaw", true, "DEG  -180..180, 0 = front, 90 = side camera"},
+           {"pitch", true, "DEG  -89..89, > 0 looks from above (default 0)"},
+           {"size", true, "WxH  output size, each side 1..8192 (default: the front photo's)"},
+           {"blend", true, "MODE  pick or weighted (default pick)"},
+           {"background", true, "COLOR  black, white, grey, #RRGGBB, R,G,B or transparent (PNG)"},
+           {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
+           {"no-equalize", false, "use the photos' colours as they are"},
+           {"export", true, "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
+                            ".png), .glb (texture embedded) or .ply (vertex colours)"},
+           {"o", true, "FILE  output image (.png, .jpg, .bmp); replaced if it exists"}},
+          1};
+}
+
+cv::Scalar parse_color(const std::string& text) {
+  if (text == "black") return {0, 0, 0};
+  if (text == "white") return {255, 255, 255};
+  if (text == "grey" || text == "gray") return {128, 128, 128};
+  int r = 0, g = 0, b = 0;
+  char tail = 0;
+  if (text.size() == 7 && text[0] == '#' &&
+      std::sscanf(text.c_str() + 1, "%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
+    return {double(b), double(g), double(r)};
+  if (std::sscanf(text.c_str(), "%d,%d,%d%c", &r, &g, &b, &tail) == 3 && r >= 0 && r <= 255 &&
+      g >= 0 && g <= 255 && b >= 0 && b <= 255)
+    return {double(b), double(g), double(r)};
+  throw std::invalid_argument("--background: expected black, white, grey, #RRGGBB, R,G,B or "
+                              "transparent, got '" + text + "'");
+}
+
+// Encodes by extension and writes via path.tmp + rename, so no partial file is left.
+void write_image(const cv::Mat& image, const fs::path& path) {
+  std::vector<uchar> bytes;
+  if (!cv::imencode(path.extension().string(), image, bytes))
+    throw std::runtime_error("cannot encode " + path.string());
+  const fs::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+    if (!f) throw std::runtime_error("cannot write " + path.string());
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error("cannot write " + path.string());
+  }
+}
+
+struct Folder {
+  model::TriMesh mesh;
+  capture::RigCalibration rig;
+  cv::Mat front, side;
+};
+
+Folder read_folder(const fs::path& dir) {
+  if (!fs::is_directory(dir))
+    throw std::runtime_error("reconstruction folder " + dir.string() + " does not exist");
+  Folder f;
+  for (const char* name : {"head.obj", "front.png", "side.png"})
+    require_file((dir / name).string(), "reconstruction folder " + dir.string() + ": " + name);
+  model::MeshReadOptions ro;
+  ro.load_texture = false;
+  f.mesh = model::read_mesh((dir / "head.obj").string(), ro);
+  f.mesh.uvs.clear();
+  f.mesh.texture = cv::Mat();
+  for (auto [name, image] : {std::pair{"front.png", &f.front}, {"side.png", &f.side}}) {
+    *image = cv::imread((dir / name).string(), cv::IMREAD_COLOR);
+    if (image->empty()) throw std::runtime_error("cannot read image " + (dir / name).string());
+  }
+  if (fs::exists(dir / "rig.yaml")) f.rig = capture::read_rig((dir / "rig.yaml").string());
+  else f.rig = capture::ideal_rig(f.front.cols, f.front.rows, 1.6);
+  return f;
+}
+
+// The view camera: the front camera's model, rescaled to the output size, turned to yaw / pitch
+// at the front camera's distance.
+capture::CameraModel view_camera(const capture::CameraModel& front, int width, int height,
+                                 double yaw_deg, double pitch_deg) {
+  capture::CameraModel k = front;
+  const double sx = double(width) / front.width, sy = double(height) / front.height;
+  const double s = std::min(sx, sy);
+  k.width = width;
+  k.height = height;
+  k.fx = front.fx * s;
+  k.fy = front.fy * s;
+  k.cx = width / 2.0 + (front.cx - front.width / 2.0) * s;
+  k.cy = height / 2.0 + (front.cy - front.height / 2.0) * s;
+  const double distance = std::max(front.cam_from_head.translation().norm(), 1.0);
+  return capture::camera_at(k, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
+}
+
+cv::Mat with_background(const render::RenderResult& r, bool transparent) {
+  if (!transparent) return r.image;
+  cv::Mat bgra;
+  cv::cvtColor(r.image, bgra, cv::COLOR_BGR2BGRA);
+  cv::Mat channels[4];
+  cv::split(bgra, channels);
+  channels[3] = r.mask.clone();
+  cv::merge(channels, 4, bgra);
+  return bgra;
+}
+
+std::string lower_extension(const fs::path& p) {
+  std::string ext = p.extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  return ext;
+}
+
+void check_output_folder(const fs::path& out, const std::string& flag) {
+  if (fs::is_directory(out)) throw std::invalid_argument(flag + " " + out.string() + " is a folder");
+  if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
+    throw std::invalid_argument(flag + " " + out.string() + ": folder " +
+                                out.parent_path().string() + " does not exist");
+}
+
+void export_mesh(const Folder& f, const fs::path& path, bool equalize) {
+  render::InheritOptions o;
+  o.equalize = equalize;
+  const std::string ext = lower_extension(path);
+  if (ext == ".ply") {
+    model::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o), path.string());
+  } else {
+    const model::TriMesh m = render::inherit_texture(f.mesh, f.rig, f.front, f.side, o).mesh;
+    if (ext == ".glb") render::write_glb(m, path.string());
+    else model::write_mesh(m, path.string());
+  }
+  std::printf("wrote %s\n", path.string().c_str());
+}
+
+}  // namespace
+
+int run_render(int argc, char** argv) {
+  const Command cmd = render_command();
+  const Args a = parse_args(cmd, argc, argv);
+  if (a.help) return print_help(cmd), 0;
+  if (a.positional.empty()) throw std::invalid_argument("render: missing the reconstruction folder DIR");
+  const bool view_wanted = a.has("o") || a.has("yaw") || a.has("turntable");
+  if (a.has("export")) {
+    const fs::path e = a.get("export");
+    const std::string ext = lower_extension(e);
+    if (ext != ".obj" && ext != ".glb" && ext != ".ply")
+      throw std::invalid_argument("--export " + e.string() + ": expected a .obj, .glb or .ply file");
+    check_output_folder(e, "--export");
+  }
+  if (view_wanted && !a.has("o")) throw std::invalid_argument("render: missing -o FILE");
+  if (!view_wanted && !a.has("export"))
+    throw std::invalid_argument("render: nothing to do: give --yaw DEG -o FILE or --export FILE");
+  const int turntable = a.has("turntable") ? to_int("turntable", a.get("turntable"), 2, 360) : 0;
+  if (view_wanted && !a.has("yaw") && !turntable) throw std::invalid_argument("render: missing --yaw DEG");
+  const double yaw = a.has("yaw") ? to_double("yaw", a.get("yaw"), -180, 180) : 0;
+  const double pitch = to_double("pitch", a.get("pitch", "0"), -89, 89);
+  render::SynthesisOptions o;
+  const std::string blend = a.get("blend", "pick");
+  if (blend != "pick" && blend != "weighted")
+    throw std::invalid_argument("--blend: expected pick or weighted, got '" + blend + "'");
+  o.blend = blend == "pick" ? render::Blend::Pick : render::Blend::Weighted;
+  o.equalize = !a.has("no-equalize");
+  const std::string bg = a.get("background", "black");
+  const bool transparent = bg == "transparent";
+  if (!transparent) o.background = parse_color(bg);
+  const fs::path out = a.get("o");
+  const std::string ext = lower_extension(out);
+  if (view_wanted) {
+    if (ext != ".png" && ext != ".jpg" && ext != ".jpeg" && ext != ".bmp")
+      throw std::invalid_argument("-o " + out.string() + ": expected a .png, .jpg or .bmp file");
+    if (transparent && ext != ".png")
+      throw std::invalid_argument("--background transparent needs a .png output, not " + out.string());
+    check_output_folder(out, "-o");
+  }
+  std::pair<int, int> size{0, 0};
+  if (a.has("size")) size = to_size("size", a.get("size"), render::kMaxRenderSize);
+  const Folder f = read_folder(a.positional[0]);
+  if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
+  if (!view_wanted) return 0;
+  const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
+  render::ViewSynthesizer synth(f.mesh, f.rig, f.front, f.side);
+  if (!turntable) {
+    const auto r = synth.render(view_camera(f.rig.front, w, h, yaw, pitch), o);
+    write_image(with_background(r.view, transparent), out);
+    std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s)\n", out.string().c_str(), w, h, yaw,
+                pitch, blend.c_str());
+    return 0;
+  }
+  std::vector<render::Tile> tiles;
+  for (int i = 0; i < turntable; ++i) {
+    const double y = -90.0 + 180.0 * i / (turntable - 1);
+    const auto r = synth.render(view_camera(f.rig.front, w, h, y, pitch), o);
+    char name[64];
+    std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
+    const fs::path view = out.parent_path() / (out.stem().string() + name + ext);
+    write_image(with_background(r.view, transparent), view);
+    tiles.push_back({r.view.image, "yaw " + std::to_string(int(std::lround(y)))});
+  }
+  render::ContactSheetOptions so;
+  so.columns = std::min(turntable, 6);
+  so.title = "orthoface render " + a.positional[0] + " (" + blend + ")";
+  write_image(render::contact_sheet(tiles, so), out);
+  std::printf("wrote %d views and the sheet %s\n", turntable, out.string().c_str());
+  return 0;
+}
+
+}  // namespace orthoface::app
