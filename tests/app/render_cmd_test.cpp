@@ -1,0 +1,108 @@
+// `orthoface render`, run as a separate process on a reconstruction folder made here.
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "capture/camera_model.h"
+#include "model/mesh_io.h"
+#include "render/image_metrics.h"
+#include "render/renderer.h"
+#include "render/shapes.h"
+#include "tests/common/test_data.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+int run(const std::string& args, const fs::path& work) {
+  const std::string cmd = "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args +
+                          " >out.txt 2>err.txt";
+  const int status = std::system(cmd.c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// A reconstruction folder of a textured ellipsoid seen by the ideal rig; returns the textured
+// mesh (the truth) and fills `rig`.
+model::TriMesh make_folder(const fs::path& dir, capture::RigCalibration& rig) {
+  fs::create_directories(dir);
+  model::TriMesh m = render::uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 32, 64, 512);
+  rig = capture::ideal_rig(320, 240, 1.0);
+  render::Renderer r;
+  cv::imwrite((dir / "front.png").string(), r.render(m, rig.front).image);
+  cv::imwrite((dir / "side.png").string(), r.render(m, rig.side).image);
+  capture::write_rig(rig, (dir / "rig.yaml").string());
+  model::write_mesh(m, (dir / "head.obj").string());
+  return m;
+}
+
+TEST(RenderCommand, RendersANewViewCloseToTheTruth) {
+  const fs::path work = testing::temp_dir("app_render");
+  capture::RigCalibration rig;
+  const model::TriMesh truth_mesh = make_folder(work / "rec", rig);
+  ASSERT_EQ(run("render rec --yaw 40 --blend weighted -o view.png", work), 0) << slurp(work / "err.txt");
+  const cv::Mat view = cv::imread((work / "view.png").string());
+  ASSERT_EQ(view.size(), cv::Size(320, 240));
+  const render::RenderResult truth =
+      render::render_once(truth_mesh, capture::camera_at(rig.front, 40 * M_PI / 180, 0, 1000));
+  EXPECT_GT(render::psnr(truth.image, view, truth.mask), 30.0);
+
+  ASSERT_EQ(run("render rec --yaw -30 --pitch 10 --size 160x120 --background transparent -o t.png", work), 0)
+      << slurp(work / "err.txt");
+  const cv::Mat t = cv::imread((work / "t.png").string(), cv::IMREAD_UNCHANGED);
+  ASSERT_EQ(t.type(), CV_8UC4);
+  EXPECT_EQ(t.size(), cv::Size(160, 120));
+  EXPECT_EQ(t.at<cv::Vec4b>(0, 0)[3], 0);      // corner: background
+  EXPECT_EQ(t.at<cv::Vec4b>(60, 80)[3], 255);  // centre: the head
+}
+
+TEST(RenderCommand, TurntableAndExports) {
+  const fs::path work = testing::temp_dir("app_render_turntable");
+  capture::RigCalibration rig;
+  make_folder(work / "rec", rig);
+  ASSERT_EQ(run("render rec --turntable 3 -o sheet.png --export head.glb", work), 0) << slurp(work / "err.txt");
+  for (const char* f : {"sheet.png", "sheet_yaw-090.png", "sheet_yaw+000.png", "sheet_yaw+090.png", "head.glb"})
+    EXPECT_TRUE(fs::exists(work / f)) << f;
+  ASSERT_EQ(run("render rec --export head.obj", work), 0) << slurp(work / "err.txt");
+  EXPECT_TRUE(fs::exists(work / "head.png"));
+  EXPECT_EQ(model::read_mesh((work / "head.obj").string()).triangles.size(), 2u * 64 * 31);
+}
+
+TEST(RenderCommand, BadInputGivesOneErrorLine) {
+  const fs::path work = testing::temp_dir("app_render_bad");
+  capture::RigCalibration rig;
+  make_folder(work / "rec", rig);
+  fs::create_directories(work / "empty");
+  for (const std::string args :
+       {"render missing --yaw 10 -o a.png", "render empty --yaw 10 -o a.png",
+        "render rec --yaw 200 -o a.png", "render rec --yaw 10 --size 0x0 -o a.png",
+        "render rec --yaw 10 --size 100000x100 -o a.png",
+        "render rec --yaw 10 --background transparent -o a.jpg", "render rec --yaw 10",
+        "render rec --yaw 10 --blend sharp -o a.png", "render rec --yaw 10 -o nodir/a.png",
+        "render rec --export head.stl", "render rec --yaw abc -o a.png"}) {
+    EXPECT_NE(run(args, work), 0) << args;
+    const std::string err = slurp(work / "err.txt");
+    EXPECT_EQ(err.rfind("error: ", 0), 0u) << args << ": " << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << args << ": " << err;
+    EXPECT_FALSE(fs::exists(work / "a.png")) << args;
+    EXPECT_FALSE(fs::exists(work / "a.jpg")) << args;
+  }
+  ASSERT_EQ(run("render --help", work), 0);
+  EXPECT_NE(slurp(work / "out.txt").find("--blend"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace orthoface::app
