@@ -9,6 +9,8 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
+#include "sim/face_mask.h"
+
 namespace orthoface::sim {
 namespace {
 
@@ -232,6 +234,10 @@ Capture simulate_capture(const Head& head, const RigOptions& options, render::Re
   cap.side_mask = views[1].mask;
   cap.front_depth_mm = views[0].depth_mm;
   cap.side_depth_mm = views[1].depth_mm;
+  if (has_face_landmarks(head)) {
+    cap.front_face_mask = face_mask(head, cap.true_rig.front, renderer);
+    cap.side_face_mask = face_mask(head, cap.true_rig.side, renderer);
+  }
   for (const auto& [name, p] : head.landmarks) {
     LandmarkTruth t;
     t.xyz_mm = p;
@@ -252,11 +258,7 @@ Capture simulate_capture(const Head& head, const RigOptions& options) {
 
 render::RenderResult true_view(const Head& head, const RigOptions& options, double yaw_rad,
                                double pitch_rad, render::Renderer& renderer) {
-  const capture::RigCalibration rig = nominal_rig(options);
-  if (!std::isfinite(yaw_rad) || !std::isfinite(pitch_rad))
-    throw std::invalid_argument("true_view: yaw and pitch must be finite");
-  const double distance = options.kind == RigKind::Ideal ? 1000.0 : options.distance_mm;
-  const capture::CameraModel cam = capture::camera_at(rig.front, yaw_rad, pitch_rad, distance);
+  const capture::CameraModel cam = true_view_camera(options, yaw_rad, pitch_rad);
   return renderer.render(head.mesh, cam, render_options(options, options.background_bgr));
 }
 

@@ -53,6 +53,8 @@ struct LandmarkTruth {
 struct Capture {
   cv::Mat front, side;                        // CV_8UC3 BGR photos (lighting, blur, noise)
   cv::Mat front_mask, side_mask;              // CV_8U, 255 where the head covers the pixel
+  cv::Mat front_face_mask, side_face_mask;    // CV_8U face region (sim/face_mask.h); empty if
+                                              // the head lacks the landmarks that bound it
   cv::Mat front_depth_mm, side_depth_mm;      // CV_32F z_cam, +inf off the head
   cv::Mat background_front, background_side;  // the empty scene, own noise draw
   capture::RigCalibration true_rig;     // the cameras that took the photos (with pose errors)

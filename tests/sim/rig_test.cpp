@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "render/shapes.h"
+#include "sim/face_mask.h"
 #include "sim/head.h"
 #include "sim/sim_folder.h"
 #include "sim/scan.h"
@@ -369,6 +370,39 @@ TEST(Rig, TinyImageIsADegenerateButValidCapture) {
   const Capture cap = simulate_capture(ellipsoid_head(), o);
   EXPECT_EQ(cap.front.size(), cv::Size(1, 1));
   EXPECT_FALSE(cap.landmarks.at("chin").visible_front);  // outside the 1-pixel image
+}
+
+TEST(FaceMask, CoversTheFaceNotHairEarsOrNeck) {
+  render::Renderer renderer;
+  const Head head = make_head(0);
+  const Capture cap = simulate_capture(head, {}, renderer);
+  ASSERT_FALSE(cap.front_face_mask.empty());
+  auto at = [](const cv::Mat& m, const Eigen::Vector2d& px) {
+    return m.at<uchar>(int(px.y()), int(px.x()));
+  };
+  const auto& lm = cap.landmarks;
+  EXPECT_EQ(at(cap.front_face_mask, lm.at("nose_tip").front_px), 255);
+  EXPECT_EQ(at(cap.front_face_mask, lm.at("eye_right_outer").front_px), 255);
+  EXPECT_EQ(at(cap.side_face_mask, lm.at("eye_left_outer").side_px), 255);
+  EXPECT_EQ(at(cap.side_face_mask, lm.at("ear_left_tragus").side_px), 0);
+  EXPECT_EQ(cv::countNonZero(cap.front_face_mask & ~cap.front_mask), 0);  // inside the head
+  const cv::Rect head_box = cv::boundingRect(cap.front_mask);
+  const cv::Rect face_box = cv::boundingRect(cap.front_face_mask);
+  EXPECT_GT(face_box.y, head_box.y + 20);                                  // no hair cap
+  EXPECT_LT(face_box.br().y, head_box.br().y - 20);                        // no neck
+  EXPECT_LT(cv::countNonZero(cap.front_face_mask), 0.7 * cv::countNonZero(cap.front_mask));
+  // The same mask for a true view comes from true_view_camera.
+  const cv::Mat m0 = face_mask(head, true_view_camera({}, 0, 0), renderer);
+  EXPECT_EQ(cv::countNonZero(m0 != cap.front_face_mask), 0);
+}
+
+TEST(FaceMask, NeedsItsLandmarks) {
+  render::Renderer renderer;
+  Head head = ellipsoid_head();  // no chin_bottom / tragi: degenerate, capture has no face mask
+  EXPECT_FALSE(has_face_landmarks(head));
+  EXPECT_TRUE(simulate_capture(head, {}, renderer).front_face_mask.empty());
+  EXPECT_THROW(face_vertices(head), std::invalid_argument);
+  EXPECT_THROW(true_view_camera({}, INFINITY, 0), std::invalid_argument);
 }
 
 TEST(SimulationFolder, WritesEveryFileOrNone) {
