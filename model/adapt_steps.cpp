@@ -65,6 +65,14 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
         warnings->push_back("feature '" + name + "' not observed: moved as a non-feature vertex");
       continue;
     }
+    const Eigen::Vector3d shift = it->second.head_mm - aligned[v];
+    const double moved = it->second.has_depth ? shift.norm() : shift.head<2>().norm();
+    if (moved > options.max_feature_shift_mm) {  // an outlier of vision, not a face
+      if (warnings)
+        warnings->push_back("feature '" + name + "' is " + std::to_string(static_cast<int>(moved)) +
+                            " mm from the aligned base: ignored");
+      continue;
+    }
     names[v] = name;
     if (it->second.has_depth) t[v] = it->second.head_mm;
     else no_depth.push_back({v, it->second.head_mm}), t.erase(v);
