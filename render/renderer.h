@@ -42,6 +42,8 @@ struct RenderResult {
 // CameraModel lands exactly where capture::project puts each point (distortion is ignored).
 // Throws std::runtime_error if the context cannot be created (naming libOSMesa) and
 // std::invalid_argument on an empty mesh, bad indices or an image size out of range.
+// Use one Renderer from one thread at a time. llvmpipe rasterises on LP_NUM_THREADS threads
+// (default: the number of cores; 0 = in the calling thread).
 class Renderer {
  public:
   Renderer();
