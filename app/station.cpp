@@ -50,6 +50,7 @@ Command station_command() {
            {"size", true, "WxH  capture size (default 640x480)"},
            {"fps", true, "N  capture frame rate (default 30)"},
            {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
+           {"retexture-every", true, "N  re-texture from the live frames every N output frames (default 1)"},
            {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
            {"out", true, "DIR  pairs and the run summary (default station_out)"}},
           0};
@@ -58,7 +59,7 @@ Command station_command() {
 struct Settings {
   std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
-  int width = 640, height = 480, refit_every = 0;
+  int width = 640, height = 480, refit_every = 0, retexture_every = 1;
 };
 
 Settings settings_from(const Args& a) {
@@ -74,6 +75,8 @@ Settings settings_from(const Args& a) {
   if (a.has("duration")) s.duration_s = to_double("duration", a.get("duration"), 0.1, 1e7);
   if (a.has("fps")) s.fps = to_double("fps", a.get("fps"), 1, 240);
   if (a.has("size")) std::tie(s.width, s.height) = to_size("size", a.get("size"), 8192);
+  if (a.has("retexture-every"))
+    s.retexture_every = to_int("retexture-every", a.get("retexture-every"), 1, 1000000);
   if (a.has("refit-every")) s.refit_every = to_int("refit-every", a.get("refit-every"), 0, 1000000);
   s.output = a.get("output", s.output);
   s.bind = a.get("bind", s.bind);
@@ -88,12 +91,6 @@ double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;
   std::sort(v.begin(), v.end());
   return v[std::min(v.size() - 1, size_t(p * (v.size() - 1) + 0.5))];
-}
-
-std::vector<unsigned char> jpeg(const cv::Mat& img) {
-  std::vector<unsigned char> out;
-  cv::imencode(".jpg", img, out, {cv::IMWRITE_JPEG_QUALITY, 80});
-  return out;
 }
 
 class Station {
@@ -121,7 +118,8 @@ class Station {
   cv::Mat view_;
   std::vector<double> latency_s_, out_times_;
   std::vector<std::string> pairs_saved_, events_;
-  double t0_ = 0;
+  double t0_ = 0, texture_time_ = 0;
+  std::vector<double> retexture_ms_, draw_ms_;
   int frames_out_ = 0, fits_ = 0;
 };
 
@@ -187,22 +185,30 @@ capture::CameraModel view_camera(const capture::RigCalibration& rig, double yaw_
 
 void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
   if (synth_) {
-    synth_->set_photos(front.image, side.image);
+    const double t = capture::monotonic_now_s();
+    if (frames_out_ % s_.retexture_every == 0) {
+      synth_->set_photos(front.image, side.image);
+      texture_time_ = std::min(front.timestamp_s, side.timestamp_s);
+      retexture_ms_.push_back((capture::monotonic_now_s() - t) * 1e3);
+    }
+    const double t1 = capture::monotonic_now_s();
     view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg)).view.image;
+    draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));
     cv::putText(view_, "fitting the model...", {20, view_.rows / 2}, cv::FONT_HERSHEY_SIMPLEX, 1.0,
                 cv::Scalar(220, 220, 220), 2);
   }
   const double now = capture::monotonic_now_s();
-  latency_s_.push_back(now - std::min(front.timestamp_s, side.timestamp_s));
+  // Capture-to-output: from the older frame whose pixels the view shows (the texture source).
+  latency_s_.push_back(now - (synth_ ? texture_time_ : std::min(front.timestamp_s, side.timestamp_s)));
   out_times_.push_back(now);
   ++frames_out_;
   if (v4l2_) v4l2_->write(view_);
   if (http_) {
-    http_->publish("front", jpeg(front.image));
-    http_->publish("side", jpeg(side.image));
-    http_->publish("view", jpeg(view_));
+    http_->publish("front", front.image);
+    http_->publish("side", side.image);
+    http_->publish("view", view_);
   }
   if (s_.output == "window") {
     cv::Mat row;
@@ -262,6 +268,8 @@ void Station::write_summary() {
     << ",\n  \"dropped_front\": " << st.dropped_front << ", \"dropped_side\": " << st.dropped_side
     << ", \"unpaired\": " << st.unpaired << ",\n  \"disconnects\": " << st.disconnects
     << ", \"reconnects\": " << st.reconnects << ", \"fits\": " << fits_
+    << ",\n  \"retexture_every\": " << s_.retexture_every << ", \"set_photos_ms_median\": "
+    << percentile(retexture_ms_, 0.5) << ", \"render_ms_median\": " << percentile(draw_ms_, 0.5)
     << ",\n  \"pairs_saved\": [";
   for (size_t i = 0; i < pairs_saved_.size(); ++i) j << (i ? ", " : "") << "\"" << pairs_saved_[i] << "\"";
   j << "],\n  \"events\": [";

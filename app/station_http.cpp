@@ -11,6 +11,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include <opencv2/imgcodecs.hpp>
+
 namespace orthoface::app {
 namespace {
 
@@ -151,12 +153,9 @@ void StationHttp::serve(int fd) {
   const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
   if (ext == ".mjpg") return stream(fd, name);
   if (ext == ".jpg") {
-    std::unique_lock<std::mutex> lock(m_);
-    auto it = images_.find(name);
-    if (it == images_.end()) return lock.unlock(), respond(fd, "404 Not Found", "text/plain", "no image yet\n");
-    const std::string body(it->second.first.begin(), it->second.first.end());
-    lock.unlock();
-    return respond(fd, "200 OK", "image/jpeg", body);
+    const std::vector<unsigned char> jpeg = jpeg_of(name, nullptr);
+    if (jpeg.empty()) return respond(fd, "404 Not Found", "text/plain", "no image yet\n");
+    return respond(fd, "200 OK", "image/jpeg", std::string(jpeg.begin(), jpeg.end()));
   }
   respond(fd, "404 Not Found", "text/plain", "not found\n");
 }
@@ -167,19 +166,16 @@ void StationHttp::stream(int fd, const std::string& name) {
     return;
   unsigned long seen = 0;
   for (;;) {
-    std::vector<unsigned char> jpeg;
     {
       std::unique_lock<std::mutex> lock(m_);
       cv_.wait_for(lock, std::chrono::seconds(1), [&] {
         auto it = images_.find(name);
-        return stopping_ || (it != images_.end() && it->second.second != seen);
+        return stopping_ || (it != images_.end() && it->second.version != seen);
       });
       if (stopping_) return;
-      auto it = images_.find(name);
-      if (it == images_.end() || it->second.second == seen) continue;
-      jpeg = it->second.first;
-      seen = it->second.second;
     }
+    const std::vector<unsigned char> jpeg = jpeg_of(name, &seen);
+    if (jpeg.empty()) continue;
     const std::string head = "--frame\r\nContent-Type: image/jpeg\r\nContent-Length: " +
                              std::to_string(jpeg.size()) + "\r\n\r\n";
     if (!send_text(fd, head) || !send_all(fd, jpeg.data(), jpeg.size()) || !send_text(fd, "\r\n"))
@@ -187,14 +183,37 @@ void StationHttp::stream(int fd, const std::string& name) {
   }
 }
 
-void StationHttp::publish(const std::string& name, std::vector<unsigned char> jpeg) {
+void StationHttp::publish(const std::string& name, const cv::Mat& bgr) {
   {
     std::lock_guard<std::mutex> lock(m_);
-    auto& slot = images_[name];
-    slot.first = std::move(jpeg);
-    ++slot.second;
+    Slot& slot = images_[name];
+    slot.image = bgr;  // shares the pixels; the station never writes into a published image
+    ++slot.version;
   }
   cv_.notify_all();
+}
+
+std::vector<unsigned char> StationHttp::jpeg_of(const std::string& name, unsigned long* version) {
+  cv::Mat image;
+  unsigned long v = 0;
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    auto it = images_.find(name);
+    if (it == images_.end()) return {};
+    if (it->second.jpeg_version == it->second.version) {
+      if (version) *version = it->second.version;
+      return it->second.jpeg;
+    }
+    image = it->second.image;
+    v = it->second.version;
+  }
+  std::vector<unsigned char> jpeg;
+  cv::imencode(".jpg", image, jpeg, {cv::IMWRITE_JPEG_QUALITY, 80});
+  std::lock_guard<std::mutex> lock(m_);
+  Slot& slot = images_[name];
+  if (v > slot.jpeg_version) slot.jpeg = jpeg, slot.jpeg_version = v;
+  if (version) *version = v;
+  return jpeg;
 }
 
 void StationHttp::set_status(const std::string& json) {

@@ -8,6 +8,8 @@
 #include <thread>
 #include <vector>
 
+#include <opencv2/core.hpp>
+
 namespace orthoface::app {
 
 // The station's tiny HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
@@ -22,7 +24,9 @@ class StationHttp {
   StationHttp(const StationHttp&) = delete;
   StationHttp& operator=(const StationHttp&) = delete;
 
-  void publish(const std::string& name, std::vector<unsigned char> jpeg);  // "front", "side", "view"
+  // Latest image under `name` ("front", "side", "view"); JPEG-encoded only when a client asks,
+  // so an unwatched station spends nothing on it.
+  void publish(const std::string& name, const cv::Mat& bgr);
   void set_status(const std::string& json);
   std::vector<std::string> take_actions();  // "capture" / "refit" requested since the last call
   int port() const { return port_; }
@@ -37,7 +41,14 @@ class StationHttp {
   bool stopping_ = false;
   std::mutex m_;
   std::condition_variable cv_;
-  std::map<std::string, std::pair<std::vector<unsigned char>, unsigned long>> images_;
+  struct Slot {
+    cv::Mat image;
+    unsigned long version = 0;
+    std::vector<unsigned char> jpeg;  // of jpeg_version
+    unsigned long jpeg_version = 0;
+  };
+  std::vector<unsigned char> jpeg_of(const std::string& name, unsigned long* version);  // "" if none
+  std::map<std::string, Slot> images_;
   std::string status_ = "{}";
   std::vector<std::string> actions_;
   std::vector<std::thread> workers_;
