@@ -15,5 +15,8 @@ int run_devices(int argc, char** argv);
 int run_capture(int argc, char** argv);
 int run_calibrate(int argc, char** argv);
 int run_station(int argc, char** argv);
+int run_features(int argc, char** argv);
+int run_segment(int argc, char** argv);
+int run_similarity(int argc, char** argv);
 
 }  // namespace orthoface::app

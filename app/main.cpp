@@ -27,6 +27,9 @@ constexpr Entry kCommands[] = {
     {"capture", orthoface::app::run_capture, "take one synchronized front + side pair, save it, reconstruct it"},
     {"calibrate", orthoface::app::run_calibrate, "calibrate the two-camera rig from checkerboard views -> rig.yaml"},
     {"station", orthoface::app::run_station, "live two-camera station with the rotated view (window, http, v4l2)"},
+    {"features", orthoface::app::run_features, "MPEG-4 feature points, ears, nose tip, axes of a head mesh (seed 000)"},
+    {"segment", orthoface::app::run_segment, "weight-motion areas around feature points (seed 001)"},
+    {"similarity", orthoface::app::run_similarity, "face similarity from geodesic network + curvatures (seed 003)"},
 };
 
 void print_usage() {

@@ -84,42 +84,83 @@ void GeodesicOptions::check() const {
 std::vector<double> geodesic_distances(const TriMesh& mesh, const std::vector<int>& sources,
                                        const GeodesicOptions& options) {
   check_sources(mesh, sources, "geodesic_distances", options);
-  const Incidence inc = incidence(mesh);
-  const size_t n = mesh.vertices.size();
-  std::vector<double> dist(n, kInf);
-  std::vector<char> done(n, 0);
-  MinQueue queue;
-  for (int s : sources) {
-    dist[s] = 0.0;
-    queue.push({0.0, s});
+  return GeodesicSolver(mesh).distances(sources, options);
+}
+
+GeodesicSolver::GeodesicSolver(const TriMesh& mesh) {
+  check_mesh(mesh, "GeodesicSolver");
+  vertices_ = mesh.vertices;
+  triangles_ = mesh.triangles;
+  Incidence inc = incidence(mesh);
+  start_ = std::move(inc.start);
+  tris_ = std::move(inc.tris);
+  dist_.assign(vertices_.size(), kInf);
+  done_.assign(vertices_.size(), 0);
+}
+
+std::vector<std::pair<int, double>> GeodesicSolver::reached(const std::vector<int>& sources,
+                                                            const GeodesicOptions& options) {
+  std::vector<std::pair<int, double>> seeds;
+  for (int s : sources) seeds.emplace_back(s, 0.0);
+  return reached_from_seeds(seeds, options);
+}
+
+std::vector<std::pair<int, double>> GeodesicSolver::reached_from_seeds(
+    const std::vector<std::pair<int, double>>& seeds, const GeodesicOptions& options) {
+  options.check();
+  if (seeds.empty()) throw std::invalid_argument("GeodesicSolver: no source vertex");
+  for (const auto& [s, d0] : seeds) {
+    if (s < 0 || s >= static_cast<int>(vertices_.size()))
+      throw std::invalid_argument("GeodesicSolver: source vertex " + std::to_string(s) +
+                                  " out of range [0, " + std::to_string(vertices_.size()) + ")");
+    if (!(d0 >= 0.0) || !std::isfinite(d0))
+      throw std::invalid_argument("GeodesicSolver: seed distance must be finite and >= 0");
   }
-  const auto& p = mesh.vertices;
+  std::vector<int> touched;
+  std::vector<std::pair<int, double>> out;
+  MinQueue queue;
+  for (const auto& [s, d0] : seeds) {
+    if (dist_[s] == kInf) touched.push_back(s);
+    if (d0 >= dist_[s]) continue;
+    dist_[s] = d0;
+    queue.push({d0, s});
+  }
+  const auto& p = vertices_;
   while (!queue.empty()) {
     const QueueItem top = queue.top();
     queue.pop();
-    if (done[top.v] || top.d > dist[top.v]) continue;
+    if (done_[top.v] || top.d > dist_[top.v]) continue;
     if (top.d > options.max_distance) break;
-    done[top.v] = 1;
+    done_[top.v] = 1;
+    out.emplace_back(top.v, top.d);
     const int v = top.v;
-    for (int k = inc.start[v]; k < inc.start[v + 1]; ++k) {
-      const auto& t = mesh.triangles[inc.tris[k]];
+    for (int k = start_[v]; k < start_[v + 1]; ++k) {
+      const auto& t = triangles_[tris_[k]];
       const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
       const int a = t[(i + 1) % 3], b = t[(i + 2) % 3];
       // Update each unfinished corner from v alone or from v and the other finished corner.
       for (const auto& [target, other] : {std::pair{a, b}, std::pair{b, a}}) {
-        if (done[target]) continue;
-        double d = done[other] ? triangle_update(p[v], p[other], p[target], dist[v], dist[other])
-                               : dist[v] + (p[target] - p[v]).norm();
-        if (d < dist[target]) {
-          dist[target] = d;
+        if (done_[target]) continue;
+        const double d = done_[other]
+                             ? triangle_update(p[v], p[other], p[target], dist_[v], dist_[other])
+                             : dist_[v] + (p[target] - p[v]).norm();
+        if (d < dist_[target]) {
+          if (dist_[target] == kInf) touched.push_back(target);
+          dist_[target] = d;
           queue.push({d, target});
         }
       }
     }
   }
-  for (size_t i = 0; i < n; ++i)
-    if (!done[i] || dist[i] > options.max_distance) dist[i] = kInf;
-  return dist;
+  for (int v : touched) dist_[v] = kInf, done_[v] = 0;
+  return out;
+}
+
+std::vector<double> GeodesicSolver::distances(const std::vector<int>& sources,
+                                              const GeodesicOptions& options) {
+  std::vector<double> d(vertices_.size(), kInf);
+  for (const auto& [v, dv] : reached(sources, options)) d[v] = dv;
+  return d;
 }
 
 std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh) {
@@ -187,10 +228,11 @@ DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int m
   const int n = static_cast<int>(mesh.vertices.size());
   DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
   const auto nb = vertex_neighbors(mesh);
+  GeodesicSolver solver(mesh);
   for (int s = 0; s < n; ++s) {
     const std::vector<double> row = method == GeodesicMethod::kEdgeGraph
                                         ? dijkstra(mesh, nb, {s}, kInf)
-                                        : geodesic_distances(mesh, {s});
+                                        : solver.distances({s});
     std::copy(row.begin(), row.end(), m.values.begin() + static_cast<size_t>(s) * n);
   }
   return m;

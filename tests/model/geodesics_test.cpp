@@ -106,6 +106,22 @@ TEST(GeodesicDistances, BadInputThrows) {
   EXPECT_THROW(geodesic_distances(nan, {0}), std::invalid_argument);
 }
 
+TEST(GeodesicSolver, RepeatedRunsMatchOneOffAndLocalRunsStop) {
+  const TriMesh m = icosphere(3, 20.0);
+  GeodesicSolver solver(m);
+  const auto once = geodesic_distances(m, {5});
+  GeodesicOptions near;
+  near.max_distance = 10.0;
+  const auto local = solver.reached({9}, near);
+  for (const auto& [v, d] : local) EXPECT_LE(d, 10.0) << v;
+  EXPECT_LT(local.size(), m.vertices.size() / 4);
+  EXPECT_EQ(solver.distances({5}), once);  // the scratch state is reset between runs
+  EXPECT_EQ(solver.distances({5}), once);
+  EXPECT_THROW(solver.reached({}), std::invalid_argument);
+  EXPECT_THROW(solver.reached({int(m.vertices.size())}), std::invalid_argument);
+  EXPECT_THROW(GeodesicSolver(TriMesh{}), std::invalid_argument);
+}
+
 TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
   const TriMesh m = icosphere(2, 10.0);  // 162 vertices
   const DistanceMatrix g = geodesic_matrix(m, GeodesicMethod::kFastMarching);

@@ -1,0 +1,38 @@
+#pragma once
+// Internal steps of mpeg4_features (seed 000 §VI.G-H), shared by its two .cpp files.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "model/mpeg4_features.h"
+
+namespace orthoface::model::detail {
+
+// The head frame found so far: origin P3, unit axes, ear distance D.
+struct LocalFrame {
+  Eigen::Vector3d origin, left, up, forward;
+  double ear_distance = 0.0;
+};
+
+// One profile sample: vertex, height along `up`, depth along `forward` (both from the origin).
+struct ProfileSample {
+  int vertex;
+  double s, f;
+};
+
+// Outermost (max f) vertex per height bin of the vertices within `band` of the plane
+// left . (p - origin) = offset, front half only (f > 0), sorted by height.
+std::vector<ProfileSample> plane_profile(const TriMesh& mesh, const LocalFrame& frame,
+                                         double offset, double band);
+
+// Indices into `profile` of local maxima (peaks = true) or minima with at least `prominence`
+// rise / drop on both sides within the profile.
+std::vector<int> profile_extrema(const std::vector<ProfileSample>& profile, bool peaks,
+                                 double prominence);
+
+// Adds the mid-plane and side-plane MPEG-4 points (and lines to report.missing).
+void profile_points(const TriMesh& mesh, const LocalFrame& frame, const FeatureOptions& options,
+                    FeatureReport& report);
+
+}  // namespace orthoface::model::detail

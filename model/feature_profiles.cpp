@@ -1,0 +1,167 @@
+// Seed 000 §VI.H: peaks and troughs of the profiles cut by the mid-plane and the two side planes.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include "model/feature_detail.h"
+#include "model/mpeg4_names.h"
+
+namespace orthoface::model::detail {
+
+std::vector<ProfileSample> plane_profile(const TriMesh& mesh, const LocalFrame& frame,
+                                         double offset, double band) {
+  std::map<long, ProfileSample> bins;  // outermost sample per height bin of width `band`
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Eigen::Vector3d q = mesh.vertices[v] - frame.origin;
+    if (std::abs(q.dot(frame.left) - offset) > band) continue;
+    const ProfileSample p{int(v), q.dot(frame.up), q.dot(frame.forward)};
+    if (p.f <= 0.0) continue;
+    const long bin = long(std::floor(p.s / band));
+    auto it = bins.find(bin);
+    if (it == bins.end() || p.f > it->second.f) bins[bin] = p;
+  }
+  std::vector<ProfileSample> out;
+  for (const auto& [bin, p] : bins) out.push_back(p);
+  return out;  // unsmoothed: the lips' trough is only ~1 % of the ear distance deep
+}
+
+std::vector<int> profile_extrema(const std::vector<ProfileSample>& profile, bool peaks,
+                                 double prominence) {
+  const double sign = peaks ? 1.0 : -1.0;
+  auto val = [&](size_t i) { return sign * profile[i].f; };
+  std::vector<int> out;
+  for (size_t i = 0; i < profile.size(); ++i) {
+    double drop_left = 0.0, drop_right = 0.0;
+    for (size_t j = i; j-- > 0;) {
+      if (val(j) > val(i)) break;
+      drop_left = std::max(drop_left, val(i) - val(j));
+    }
+    for (size_t j = i + 1; j < profile.size(); ++j) {
+      if (val(j) >= val(i)) break;  // ties: only the last sample of a plateau counts
+      drop_right = std::max(drop_right, val(i) - val(j));
+    }
+    if (drop_left >= prominence && drop_right >= prominence) out.push_back(int(i));
+  }
+  return out;
+}
+
+namespace {
+
+void add_point(const TriMesh& mesh, FeatureReport& r, const std::string& name, int vertex,
+               const std::string& helper_description = "") {
+  FoundPoint p;
+  p.name = name;
+  p.description = helper_description.empty() ? mpeg4_description(name) : helper_description;
+  p.vertex = vertex;
+  p.position = mesh.vertices[vertex];
+  r.points.push_back(p);
+}
+
+// First extremum of the given kind strictly below (down = true) or above height s0, nearest
+// first, within max_gap of s0.
+std::optional<int> next_extremum(const std::vector<ProfileSample>& prof,
+                                 const std::vector<int>& idx, double s0, bool down,
+                                 double max_gap) {
+  std::optional<int> best;
+  for (int i : idx) {
+    const double ds = down ? s0 - prof[i].s : prof[i].s - s0;
+    if (ds <= 0.0 || ds > max_gap) continue;
+    if (!best || std::abs(prof[i].s - s0) < std::abs(prof[*best].s - s0)) best = i;
+  }
+  return best;
+}
+
+void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions& o,
+                    FeatureReport& r) {
+  const double D = fr.ear_distance;
+  const auto prof = plane_profile(mesh, fr, 0.0, o.plane_band * D);
+  const double s_nose = (mesh.vertices[*r.nose_tip] - fr.origin).dot(fr.up);
+  const auto peaks = profile_extrema(prof, true, 0.005 * D);
+  const auto troughs = profile_extrema(prof, false, 0.005 * D);
+  // Downward from the nose tip: subnasale, upper lip, stomion, lower lip, sulcus, chin boss.
+  struct Step { const char* name; bool peak; const char* helper; };
+  const Step steps[] = {{"9.15", false, ""}, {"8.1", true, ""}, {"2.2", false, ""},
+                        {"8.2", true, ""}, {"sulcus", false, "mentolabial sulcus (helper)"},
+                        {"2.10", true, ""}};
+  double s = s_nose;
+  for (const Step& st : steps) {
+    const auto i = next_extremum(prof, st.peak ? peaks : troughs, s, true, 0.25 * D);
+    if (!i) {
+      r.missing.push_back(std::string(st.name) + ": no " + (st.peak ? "peak" : "trough") +
+                          " on the mid-plane profile below the previous point");
+      return;
+    }
+    add_point(mesh, r, st.name, prof[*i].vertex, st.helper);
+    s = prof[*i].s;
+  }
+  // 2.1 bottom of the chin: the chin point furthest along (forward - up), below the chin boss.
+  std::optional<int> bottom;
+  for (size_t i = 0; i < prof.size(); ++i)
+    if (prof[i].s < s && prof[i].s > s - 0.3 * D &&
+        (!bottom || prof[i].f - prof[i].s > prof[*bottom].f - prof[*bottom].s))
+      bottom = int(i);
+  if (bottom) add_point(mesh, r, "2.1", prof[*bottom].vertex);
+  else r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
+  const auto nasion = next_extremum(prof, troughs, s_nose, false, 0.4 * D);
+  if (nasion) add_point(mesh, r, "nasion", prof[*nasion].vertex, "deepest point between the eyes (helper)");
+  else r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
+}
+
+void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions& o,
+                 FeatureReport& r, double side, const std::string& brow, const std::string& eye,
+                 const std::string& cheek) {
+  const double D = fr.ear_distance;
+  // The plane halfway between the mid-plane and the ear (seed 000 §VI.H).
+  const auto prof = plane_profile(mesh, fr, side * 0.25 * D, o.plane_band * D);
+  const double s_nose = (mesh.vertices[*r.nose_tip] - fr.origin).dot(fr.up);
+  std::optional<int> b;
+  for (size_t i = 0; i < prof.size(); ++i)
+    if (prof[i].s > s_nose && prof[i].s < s_nose + 0.45 * D && (!b || prof[i].f > prof[*b].f))
+      b = int(i);
+  if (!b) {
+    r.missing.push_back(brow + ", " + eye + ", " + cheek + ": side-plane profile is empty");
+    return;
+  }
+  add_point(mesh, r, brow, prof[*b].vertex);
+  std::optional<int> e;
+  for (size_t i = 0; i < prof.size(); ++i)
+    if (prof[i].s < prof[*b].s && prof[i].s > s_nose && (!e || prof[i].f < prof[*e].f)) e = int(i);
+  if (!e || prof[*b].f - prof[*e].f < 0.005 * D) {
+    r.missing.push_back(eye + ", " + cheek + ": no trough below the brow on the side plane");
+    return;
+  }
+  add_point(mesh, r, eye, prof[*e].vertex);
+  std::optional<int> c;
+  for (size_t i = 0; i < prof.size(); ++i)
+    if (prof[i].s < prof[*e].s && prof[i].s > s_nose - 0.2 * D && (!c || prof[i].f > prof[*c].f))
+      c = int(i);
+  if (c && prof[*c].f - prof[*e].f > 0.005 * D) add_point(mesh, r, cheek, prof[*c].vertex);
+  else r.missing.push_back(cheek + ": no peak below the eye on the side plane");
+}
+
+}  // namespace
+
+void profile_points(const TriMesh& mesh, const LocalFrame& frame, const FeatureOptions& options,
+                    FeatureReport& report) {
+  midline_points(mesh, frame, options, report);
+  side_points(mesh, frame, options, report, +1.0, "4.3", "3.5", "5.3");
+  side_points(mesh, frame, options, report, -1.0, "4.4", "3.6", "5.4");
+  // 11.4 top of skull and 11.6 back of skull from the whole mid-plane section.
+  const double D = frame.ear_distance;
+  int top = -1, back = -1;
+  double top_s = -1e300, back_f = 1e300;
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Eigen::Vector3d q = mesh.vertices[v] - frame.origin;
+    if (std::abs(q.dot(frame.left)) > options.plane_band * D || q.norm() > 1.2 * D) continue;
+    const double s = q.dot(frame.up), f = q.dot(frame.forward);
+    if (s > top_s) top_s = s, top = int(v);
+    if (s > 0.0 && s < 0.6 * D && f < back_f) back_f = f, back = int(v);
+  }
+  if (top >= 0 && top_s > 0.3 * D) add_point(mesh, report, "11.4", top);
+  else report.missing.push_back("11.4: no skull above the ears (face-only mesh?)");
+  if (back >= 0 && back_f < -0.3 * D) add_point(mesh, report, "11.6", back);
+  else report.missing.push_back("11.6: no back of the head (face-only mesh?)");
+}
+
+}  // namespace orthoface::model::detail

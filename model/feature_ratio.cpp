@@ -1,0 +1,107 @@
+// Seed 000 §VI.C / §VI.G: vertices close in Euclidean distance but far apart along the surface.
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <tuple>
+
+#include "model/geodesics.h"
+#include "model/mpeg4_features.h"
+
+namespace orthoface::model {
+
+void FeatureOptions::check() const {
+  auto bad = [](const std::string& field, double v) {
+    throw std::invalid_argument("FeatureOptions: " + field + " out of range: " + std::to_string(v));
+  };
+  if (!(neighbourhood > 0.0 && neighbourhood < 0.5)) bad("neighbourhood", neighbourhood);
+  if (!(ratio_threshold > 1.0 && ratio_threshold < ratio_cap)) bad("ratio_threshold", ratio_threshold);
+  if (!(ratio_cap > 1.0 && ratio_cap <= 20.0)) bad("ratio_cap", ratio_cap);
+  if (max_sources < 10) bad("max_sources", max_sources);
+  if (!(plane_band > 0.0 && plane_band < 0.5)) bad("plane_band", plane_band);
+}
+
+namespace {
+
+// Farthest-point sample of `count` vertex indices (deterministic: starts at vertex 0).
+std::vector<int> farthest_point_sample(const std::vector<Eigen::Vector3d>& p, int count) {
+  std::vector<int> out;
+  std::vector<double> d(p.size(), std::numeric_limits<double>::infinity());
+  int next = 0;
+  for (int k = 0; k < count; ++k) {
+    out.push_back(next);
+    int far = next;
+    for (size_t i = 0; i < p.size(); ++i) {
+      d[i] = std::min(d[i], (p[i] - p[next]).squaredNorm());
+      if (d[i] > d[far]) far = int(i);
+    }
+    next = far;
+  }
+  return out;
+}
+
+using Cell = std::tuple<long, long, long>;
+
+Cell cell_of(const Eigen::Vector3d& p, double size) {
+  return {long(std::floor(p.x() / size)), long(std::floor(p.y() / size)),
+          long(std::floor(p.z() / size))};
+}
+
+}  // namespace
+
+double pose_free_size(const TriMesh& mesh) {
+  check_mesh(mesh, "pose_free_size");
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& v : mesh.vertices) mean += v / double(mesh.vertices.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& v : mesh.vertices) cov += (v - mean) * (v - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+  Eigen::AlignedBox3d box;  // box along the principal axes: the same in every pose
+  for (const auto& v : mesh.vertices) box.extend(es.eigenvectors().transpose() * (v - mean));
+  return box.diagonal().norm();
+}
+
+std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureOptions& options) {
+  check_mesh(mesh, "geodesic_euclidean_ratio");
+  options.check();
+  const auto& p = mesh.vertices;
+  const double r = options.neighbourhood * pose_free_size(mesh);
+  if (!(r > 0.0)) throw std::invalid_argument("geodesic_euclidean_ratio: mesh has no extent");
+  std::map<Cell, std::vector<int>> grid;
+  for (size_t i = 0; i < p.size(); ++i) grid[cell_of(p[i], r)].push_back(int(i));
+  std::vector<int> sources;
+  if (int(p.size()) <= options.max_sources) {
+    for (size_t i = 0; i < p.size(); ++i) sources.push_back(int(i));
+  } else {
+    sources = farthest_point_sample(p, options.max_sources);
+  }
+  GeodesicSolver solver(mesh);
+  GeodesicOptions go;
+  go.max_distance = options.ratio_cap * r;
+  std::vector<double> ratio(p.size(), 1.0), geo(p.size(), -1.0);
+  for (int s : sources) {
+    const auto reached = solver.reached({s}, go);
+    for (const auto& [v, d] : reached) geo[v] = d;
+    const auto [cx, cy, cz] = cell_of(p[s], r);
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find({cx + dx, cy + dy, cz + dz});
+          if (it == grid.end()) continue;
+          for (int u : it->second) {
+            const double e = (p[u] - p[s]).norm();
+            if (u == s || e > r || e <= 0.0) continue;
+            const double g = geo[u] >= 0.0 ? geo[u] : go.max_distance;
+            const double q = std::min(options.ratio_cap, g / e);
+            ratio[s] = std::max(ratio[s], q);
+            ratio[u] = std::max(ratio[u], q);
+          }
+        }
+    for (const auto& [v, d] : reached) geo[v] = -1.0;
+  }
+  return ratio;
+}
+
+}  // namespace orthoface::model
