@@ -10,6 +10,7 @@ packages=(
   libv4l-dev v4l-utils libcamera-dev
   libopenmpi-dev openmpi-bin
   assimp-utils
+  libcgal-dev  # bench/analysis_bench only: exact geodesics as the accuracy reference
 )
 
 missing=()

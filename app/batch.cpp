@@ -1,0 +1,216 @@
+// orthoface-batch: many front/side pairs or an all-pairs similarity matrix, split over MPI
+// ranks (rank 0 gathers and draws the progress bar). A separate executable so the main
+// `orthoface` binary never loads MPI; it runs single-process without mpirun (singleton init).
+#include <mpi.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "app/pipeline.h"
+#include "capture/camera_model.h"
+#include "model/mesh_io.h"
+#include "model/similarity.h"
+
+namespace fs = std::filesystem;
+using namespace orthoface;
+
+namespace {
+
+constexpr int kTagDone = 1;
+
+const char* kUsage =
+    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.png + side.png [+ rig.yaml])\n"
+    "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
+    "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n";
+
+// Rank 0: draws "[#####.....] done/total" from its own count plus messages from the others.
+struct Progress {
+  int total = 0, done = 0;
+  void draw() const {
+    const int width = 40, filled = total ? width * done / total : width;
+    std::fprintf(stderr, "\r[%s%s] %d/%d", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), done, total);
+    if (done == total) std::fprintf(stderr, "\n");
+  }
+  void poll() {
+    int flag = 1;
+    while (flag) {
+      MPI_Status st;
+      MPI_Iprobe(MPI_ANY_SOURCE, kTagDone, MPI_COMM_WORLD, &flag, &st);
+      if (!flag) break;
+      int one = 0;
+      MPI_Recv(&one, 1, MPI_INT, st.MPI_SOURCE, kTagDone, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+      ++done;
+      draw();
+    }
+  }
+};
+
+void item_done(int rank, Progress& p) {
+  if (rank == 0) {
+    ++p.done;
+    p.draw();
+    p.poll();
+  } else {
+    int one = 1;
+    MPI_Send(&one, 1, MPI_INT, 0, kTagDone, MPI_COMM_WORLD);
+  }
+}
+
+// Items i with i % size == rank.
+std::vector<int> my_items(int n, int rank, int size) {
+  std::vector<int> out;
+  for (int i = rank; i < n; i += size) out.push_back(i);
+  return out;
+}
+
+// Per item: 1 = ok, 0 = failed, and the milliseconds it took; gathered on rank 0 by sum.
+void gather_status(std::vector<double>& status, std::vector<double>& ms) {
+  std::vector<double> s2(status.size()), m2(ms.size());
+  MPI_Reduce(status.data(), s2.data(), int(status.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  MPI_Reduce(ms.data(), m2.data(), int(ms.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  status.swap(s2), ms.swap(m2);
+}
+
+int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
+  std::vector<fs::path> items;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_directory() && fs::exists(e.path() / "front.png") && fs::exists(e.path() / "side.png"))
+      items.push_back(e.path());
+  std::sort(items.begin(), items.end());
+  const int n = int(items.size());
+  if (n == 0) throw std::runtime_error(dir.string() + ": no <name>/front.png + side.png folders");
+  Progress progress{n, 0};
+  std::vector<double> status(n, 0.0), ms(n, 0.0);
+  std::vector<std::string> errors(n);
+  for (int i : my_items(n, rank, size)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      app::ReconstructOptions o;
+      if (fs::exists(items[i] / "rig.yaml")) o.rig = capture::read_rig((items[i] / "rig.yaml").string());
+      const cv::Mat front = cv::imread((items[i] / "front.png").string());
+      const cv::Mat side = cv::imread((items[i] / "side.png").string());
+      const app::Reconstruction r = app::reconstruct(front, side, o);
+      app::write_reconstruction(r, (out / items[i].filename()).string());
+      status[i] = 1.0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
+    }
+    ms[i] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    item_done(rank, progress);
+  }
+  gather_status(status, ms);
+  if (rank != 0) return 0;
+  while (progress.done < n) progress.poll();
+  nlohmann::json j{{"ranks", size}, {"pairs", n}};
+  int ok = 0;
+  for (int i = 0; i < n; ++i) {
+    ok += status[i] > 0.5;
+    j["items"].push_back({{"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}});
+  }
+  j["ok"] = ok;
+  std::ofstream(out / "batch_report.json") << j.dump(2) << "\n";
+  std::printf("batch: %d / %d pairs reconstructed on %d rank(s) -> %s\n", ok, n, size, out.c_str());
+  return ok == n ? 0 : 1;
+}
+
+int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, int size) {
+  std::vector<fs::path> items;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    std::string ext = e.path().extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (e.is_regular_file() && (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".glb"))
+      items.push_back(e.path());
+  }
+  std::sort(items.begin(), items.end());
+  const int n = int(items.size());
+  if (n < 2) throw std::runtime_error(dir.string() + ": needs at least two meshes");
+  const model::SimilarityOptions options;
+  const int len = options.iso_geodesics * options.radial_geodesics;
+  // Each rank builds the signatures of its meshes; rank 0 gets all metric vectors (4 x len).
+  std::vector<double> metrics(size_t(n) * 4 * len, 0.0), status(n, 0.0), ms(n, 0.0);
+  Progress progress{n, 0};
+  for (int i : my_items(n, rank, size)) {
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+      const auto s = model::face_signature(model::read_mesh(items[i].string()), options);
+      const std::vector<double>* parts[] = {&s.mean, &s.gaussian, &s.shape_index, &s.curvedness};
+      for (int k = 0; k < 4; ++k)
+        std::copy(parts[k]->begin(), parts[k]->end(), metrics.begin() + (size_t(i) * 4 + k) * len);
+      status[i] = 1.0;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
+    }
+    ms[i] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    item_done(rank, progress);
+  }
+  std::vector<double> all(metrics.size());
+  MPI_Reduce(metrics.data(), all.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
+  gather_status(status, ms);
+  if (rank != 0) return 0;
+  while (progress.done < n) progress.poll();
+  const char* names[] = {"mean", "gaussian", "shape_index", "curvedness"};
+  for (int k = 0; k < 4; ++k) {
+    std::ofstream csv(out / (std::string("similarity_") + names[k] + ".csv"));
+    csv << "mesh";
+    for (const auto& p : items) csv << "," << p.filename().string();
+    csv << "\n";
+    for (int i = 0; i < n; ++i) {
+      csv << items[i].filename().string();
+      for (int j = 0; j < n; ++j) {
+        model::FaceSignature a, b;
+        auto fill = [&](model::FaceSignature& s, int m) {
+          s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len, all.begin() + (size_t(m) * 4 + k + 1) * len);
+          s.gaussian = s.shape_index = s.curvedness = s.mean;
+        };
+        fill(a, i), fill(b, j);
+        const double v = status[i] > 0.5 && status[j] > 0.5 ? model::similarity(a, b).mean : NAN;
+        csv << "," << v;
+      }
+      csv << "\n";
+    }
+  }
+  int ok = 0;
+  for (double s : status) ok += s > 0.5;
+  std::printf("batch: %d / %d signatures on %d rank(s) -> %s/similarity_*.csv\n", ok, n, size, out.c_str());
+  return ok == n ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0, size = 1;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  MPI_Comm_size(MPI_COMM_WORLD, &size);
+  int rc = 0;
+  try {
+    if (argc == 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) {
+      if (rank == 0) std::printf("%s", kUsage);
+    } else if (argc != 5 || std::strcmp(argv[3], "-o") != 0 ||
+               (std::strcmp(argv[1], "pairs") && std::strcmp(argv[1], "similarity"))) {
+      throw std::invalid_argument(std::string("bad arguments\n") + kUsage);
+    } else {
+      const fs::path dir = argv[2], out = argv[4];
+      if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": not a folder");
+      if (rank == 0) fs::create_directories(out);
+      MPI_Barrier(MPI_COMM_WORLD);
+      rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, rank, size)
+                                          : run_similarity_matrix(dir, out, rank, size);
+    }
+  } catch (const std::exception& e) {
+    if (rank == 0) std::fprintf(stderr, "error: %s\n", e.what());
+    rc = 1;
+  }
+  MPI_Finalize();
+  return rc;
+}

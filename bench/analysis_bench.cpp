@@ -1,0 +1,253 @@
+// Mesh-analysis benchmark (prints JSON): seed 000's timing table (neighbour, Euclidean and
+// geodesic matrices at 550..1760 vertices, plus 10k and 50k), geodesic accuracy against the
+// analytic sphere and CGAL's exact Surface_mesh_shortest_path (reference only), and features on
+// sim heads and the two scans. Usage: analysis_bench [--quick]
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <map>
+
+#include <nlohmann/json.hpp>
+
+#include "model/analysis_mesh.h"
+#include "model/geodesics.h"
+#include "model/mesh_io.h"
+#include "model/mpeg4_features.h"
+#include "sim/head.h"
+
+#ifdef ORTHOFACE_HAVE_CGAL
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_shortest_path.h>
+#endif
+
+using namespace orthoface;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+model::TriMesh sim_mesh(int seed, int triangles) {
+  sim::HeadOptions o;
+  o.target_triangles = triangles;
+  return model::analysis_mesh(sim::make_head(sim::head_params(seed), o).mesh, "bench").mesh;
+}
+
+nlohmann::json timing_row(const model::TriMesh& m) {
+  const int n = int(m.vertices.size());
+  nlohmann::json row{{"vertices", n}, {"triangles", m.triangles.size()}};
+  auto t0 = Clock::now();
+  const auto nb = model::vertex_neighbors(m);
+  row["neighbour_ms"] = ms_since(t0);
+  if (n <= 12000) {
+    t0 = Clock::now();
+    const auto e = model::euclidean_matrix(m);
+    row["euclidean_matrix_ms"] = ms_since(t0);
+  }
+  if (n <= 2000) {
+    t0 = Clock::now();
+    const auto g = model::geodesic_matrix(m, model::GeodesicMethod::kFastMarching);
+    row["geodesic_matrix_fmm_ms"] = ms_since(t0);
+    t0 = Clock::now();
+    const auto d = model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph);
+    row["geodesic_matrix_dijkstra_ms"] = ms_since(t0);
+  } else {  // n single-source runs, timed on 20 and scaled (memory 4 n^2 bytes)
+    model::GeodesicSolver solver(m);
+    t0 = Clock::now();
+    for (int s = 0; s < 20; ++s) solver.distances({s * (n / 20)});
+    row["geodesic_single_source_ms"] = ms_since(t0) / 20.0;
+    row["geodesic_matrix_fmm_ms_extrapolated"] = ms_since(t0) / 20.0 * n;
+  }
+  return row;
+}
+
+struct Accuracy {
+  double mean_rel = 0, max_rel = 0;
+};
+
+Accuracy compare(const std::vector<double>& d, const std::vector<double>& ref) {
+  double maxd = 0;
+  for (double x : ref) maxd = std::max(maxd, x);
+  Accuracy a;
+  int count = 0;
+  for (size_t i = 0; i < d.size(); ++i) {
+    if (!(ref[i] > 0.01 * maxd)) continue;
+    const double rel = std::abs(d[i] - ref[i]) / ref[i];
+    a.mean_rel += rel, a.max_rel = std::max(a.max_rel, rel), ++count;
+  }
+  a.mean_rel /= std::max(1, count);
+  return a;
+}
+
+nlohmann::json sphere_accuracy(int levels) {
+  // Icosphere by subdivision (as tests/model/analysis_test_meshes.h), radius 100.
+  model::TriMesh m;
+  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
+  m.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      auto key = std::minmax(a, b);
+      if (mid.count(key)) return mid[key];
+      m.vertices.push_back(0.5 * (m.vertices[a] + m.vertices[b]));
+      return mid[key] = int(m.vertices.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& f : m.triangles) {
+      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
+      next.push_back({f[0], a, c}), next.push_back({f[1], b, a});
+      next.push_back({f[2], c, b}), next.push_back({a, b, c});
+    }
+    m.triangles = next;
+  }
+  for (auto& v : m.vertices) v = v.normalized() * 100.0;
+  auto t0 = Clock::now();
+  const auto d = model::geodesic_distances(m, {0});
+  const double fmm_ms = ms_since(t0);
+  std::vector<double> truth(d.size());
+  for (size_t i = 0; i < d.size(); ++i)
+    truth[i] = 100.0 * std::acos(std::clamp(m.vertices[0].normalized().dot(m.vertices[i].normalized()), -1.0, 1.0));
+  const Accuracy a = compare(d, truth);
+  const Accuracy e = compare(model::edge_graph_distances(m, {0}), truth);
+  return {{"vertices", m.vertices.size()}, {"fmm_ms", fmm_ms}, {"fmm_mean_rel_error", a.mean_rel},
+          {"fmm_max_rel_error", a.max_rel}, {"dijkstra_mean_rel_error", e.mean_rel},
+          {"dijkstra_max_rel_error", e.max_rel}};
+}
+
+nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
+  nlohmann::json j{{"mesh", name}};
+  model::TriMesh m;
+  try {
+    m = model::analysis_mesh(model::read_mesh(path), name).mesh;
+  } catch (const std::exception& e) {
+    j["skipped"] = e.what();
+    return j;
+  }
+  int src = 0;  // the most forward vertex (nose tip in the scans' frames)
+  for (size_t v = 0; v < m.vertices.size(); ++v)
+    if (m.vertices[v].z() > m.vertices[src].z()) src = int(v);
+#ifdef ORTHOFACE_HAVE_CGAL
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  using SM = CGAL::Surface_mesh<K::Point_3>;
+  using SP = CGAL::Surface_mesh_shortest_path<CGAL::Surface_mesh_shortest_path_traits<K, SM>>;
+  SM sm;
+  std::vector<SM::Vertex_index> vh;
+  for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
+  model::TriMesh same;  // exactly the faces CGAL accepted, so both solve the same surface
+  same.vertices = m.vertices;
+  for (const auto& t : m.triangles)
+    if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) != SM::null_face()) same.triangles.push_back(t);
+  j["faces_rejected_by_cgal"] = m.triangles.size() - same.triangles.size();
+  auto t0 = Clock::now();
+  SP sp(sm);
+  sp.add_source_point(vh[src]);
+  sp.build_sequence_tree();
+  std::vector<double> exact(m.vertices.size());
+  for (size_t v = 0; v < m.vertices.size(); ++v)
+    exact[v] = sp.shortest_distance_to_source_points(vh[v]).first;
+  const double cgal_ms = ms_since(t0);
+  for (double& x : exact)
+    if (x < 0) x = std::numeric_limits<double>::infinity();  // unreachable
+  t0 = Clock::now();
+  const auto fmm = model::geodesic_distances(same, {src});
+  const double fmm_ms = ms_since(t0);
+  const Accuracy a = compare(fmm, exact);
+  const Accuracy e = compare(model::edge_graph_distances(same, {src}), exact);
+  j.update({{"vertices", m.vertices.size()}, {"cgal_exact_ms", cgal_ms}, {"fmm_ms", fmm_ms},
+            {"speedup", cgal_ms / fmm_ms}, {"fmm_mean_rel_error", a.mean_rel},
+            {"fmm_max_rel_error", a.max_rel}, {"dijkstra_mean_rel_error", e.mean_rel},
+            {"dijkstra_max_rel_error", e.max_rel}});
+#else
+  auto t0 = Clock::now();
+  model::geodesic_distances(m, {src});
+  j.update({{"vertices", m.vertices.size()}, {"fmm_ms", ms_since(t0)}, {"cgal", "not built"}});
+#endif
+  return j;
+}
+
+nlohmann::json sim_features(int seeds) {
+  const std::map<std::string, std::string> truth = {
+      {"9.3", "nose_tip"}, {"9.15", "subnasale"}, {"8.1", "lip_upper"}, {"8.2", "lip_lower"},
+      {"2.10", "chin"}, {"2.1", "chin_bottom"}, {"nasion", "nose_bridge"},
+      {"4.3", "brow_left_center"}, {"4.4", "brow_right_center"}, {"3.5", "eye_left_center"},
+      {"3.6", "eye_right_center"}, {"10.1", "ear_left_top"}, {"10.2", "ear_right_top"}};
+  std::map<std::string, std::vector<double>> err;
+  int ears_found = 0, ears_right_side = 0;
+  double secs = 0;
+  for (int s = 0; s < seeds; ++s) {
+    sim::HeadOptions o;
+    o.target_triangles = sim::HeadOptions::kHighTriangles;
+    const sim::Head h = sim::make_head(sim::head_params(s), o);
+    const auto t0 = Clock::now();
+    const model::FeatureReport r = model::mpeg4_features(h.mesh);
+    secs += ms_since(t0) / 1000.0;
+    if (r.ear_left) {
+      ++ears_found;
+      const Eigen::Vector3d l = h.mesh.vertices[*r.ear_left];
+      ears_right_side += l.x() > 0;
+      err["P1_ear_left_vs_tragus"].push_back((l - h.landmarks.at("ear_left_tragus")).norm());
+      err["P2_ear_right_vs_tragus"].push_back((h.mesh.vertices[*r.ear_right] - h.landmarks.at("ear_right_tragus")).norm());
+    }
+    for (const auto& p : r.points)
+      if (truth.count(p.name)) err[p.name].push_back((p.position - h.landmarks.at(truth.at(p.name))).norm());
+  }
+  nlohmann::json j{{"heads", seeds}, {"ears_found", ears_found},
+                   {"left_ear_on_subject_left", ears_right_side}, {"mean_seconds", secs / seeds}};
+  for (auto& [name, v] : err) {
+    std::sort(v.begin(), v.end());
+    double mean = 0;
+    for (double x : v) mean += x / v.size();
+    j["error_mm"][name] = {{"found", v.size()}, {"mean", mean}, {"median", v[v.size() / 2]}, {"max", v.back()}};
+  }
+  return j;
+}
+
+nlohmann::json scan_features(const std::string& path) {
+  nlohmann::json j{{"mesh", path}};
+  try {
+    const model::TriMesh m = model::read_mesh(path);
+    const auto t0 = Clock::now();
+    const model::FeatureReport r = model::mpeg4_features(m);
+    j["seconds"] = ms_since(t0) / 1000.0;
+    for (const auto& p : r.points) j["points"][p.name] = {p.position.x(), p.position.y(), p.position.z()};
+    j["missing"] = r.missing;
+  } catch (const std::exception& e) {
+    j["skipped"] = e.what();
+  }
+  return j;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool quick = argc > 1 && !std::strcmp(argv[1], "--quick");
+  const std::string data = ORTHOFACE_DATA_DIR;
+  nlohmann::json out;
+  // Seed 000 Tables 1-3 sizes (target triangles ~ 2 x vertices on a closed head).
+  std::vector<int> sizes = {550, 725, 794, 900, 1073, 1760, 10000};
+  if (!quick) sizes.push_back(50000);
+  for (int v : sizes) {
+    try {
+      out["timing"].push_back(timing_row(sim_mesh(0, 2 * v)));
+    } catch (const std::exception& e) {
+      out["timing"].push_back({{"target_vertices", v}, {"skipped", e.what()}});
+    }
+  }
+  out["sphere_accuracy"] = {sphere_accuracy(4), sphere_accuracy(5), sphere_accuracy(6)};
+  out["scan_accuracy"] = {
+      scan_accuracy("lee_perry_smith", data + "/lee_perry_smith_head/LeePerrySmith.obj"),
+      scan_accuracy("nefertiti", data + "/nefertiti_scan/nefertiti-lowres.obj")};
+  out["sim_features"] = sim_features(quick ? 3 : 20);
+  out["scan_features"] = {scan_features(data + "/lee_perry_smith_head/LeePerrySmith.obj"),
+                          scan_features(data + "/nefertiti_scan/nefertiti-lowres.obj")};
+  std::printf("%s\n", out.dump(2).c_str());
+  return 0;
+}
