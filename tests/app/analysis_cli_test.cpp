@@ -1,0 +1,122 @@
+// `orthoface features | segment | similarity` (and orthoface-batch when built), run as processes.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "model/mesh_io.h"
+#include "sim/head.h"
+#include "tests/common/test_data.h"
+
+namespace orthoface::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code = -1;
+  std::string err, out;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+Result run(const std::string& binary, const std::string& args, const fs::path& work) {
+  const std::string cmd = "cd '" + work.string() + "' && " + binary + " " + args + " >'" +
+                          (work / "out.txt").string() + "' 2>'" + (work / "err.txt").string() + "'";
+  const int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(work / "err.txt"), slurp(work / "out.txt")};
+}
+
+Result orthoface(const std::string& args, const fs::path& work) {
+  return run(std::string("'") + ORTHOFACE_BINARY + "'", args, work);
+}
+
+// One "error:" line naming the input, non-zero exit.
+void expect_clean_error(const Result& r, const std::string& names) {
+  EXPECT_NE(r.code, 0);
+  EXPECT_EQ(r.err.rfind("error: ", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find(names), std::string::npos) << r.err;
+}
+
+TEST(AnalysisCli, HelpPrintsUsage) {
+  const fs::path w = testing::temp_dir("analysis_cli_help");
+  for (const char* c : {"features", "segment", "similarity"}) {
+    const Result r = orthoface(std::string(c) + " --help", w);
+    EXPECT_EQ(r.code, 0) << c;
+    EXPECT_NE(r.out.find(c), std::string::npos) << c;
+  }
+}
+
+TEST(AnalysisCli, BadMeshesGiveOneErrorLine) {
+  const fs::path w = testing::temp_dir("analysis_cli_bad");
+  expect_clean_error(orthoface("features missing.obj -o out", w), "missing.obj");
+  for (const char* bad : {"mesh_empty.obj", "mesh_nan_vertex.obj", "mesh_points_only.obj",
+                          "mesh_degenerate_only.obj"}) {
+    const std::string path = testing::shared_data(std::string("bad_inputs/") + bad);
+    if (path.empty()) GTEST_SKIP() << "no shared bad_inputs";
+    expect_clean_error(orthoface("features '" + path + "' -o out", w), bad);
+    EXPECT_FALSE(fs::exists(w / "out" / "features.json")) << bad;
+  }
+}
+
+TEST(AnalysisCli, SegmentRejectsUnknownPointNames) {
+  const fs::path w = testing::temp_dir("analysis_cli_segment");
+  sim::HeadOptions o;
+  o.target_triangles = 2000;
+  model::write_mesh(sim::make_head(sim::head_params(0), o).mesh, (w / "head.ply").string());
+  std::ofstream(w / "fp.json") << R"({"9.3": [0, -20, 110], "nose_tipp": [0, 0, 90]})";
+  expect_clean_error(orthoface("segment head.ply --points fp.json -o seg", w), "nose_tipp");
+  std::ofstream(w / "good.json") << R"({"9.3": [0, -20, 110], "10.1": [80, 0, 0], "10.2": [-80, 0, 0]})";
+  const Result ok = orthoface("segment head.ply --points good.json -o seg", w);
+  ASSERT_EQ(ok.code, 0) << ok.err;
+  EXPECT_TRUE(fs::exists(w / "seg" / "membership.csv"));
+  EXPECT_TRUE(fs::exists(w / "seg" / "areas.ply"));
+  EXPECT_TRUE(fs::exists(w / "seg" / "segment.png"));
+}
+
+TEST(AnalysisCli, SimilarityNeedsTwoMeshesAndScoresAPair) {
+  const fs::path w = testing::temp_dir("analysis_cli_similarity");
+  expect_clean_error(orthoface("similarity only.obj", w), "two meshes");
+  sim::HeadOptions o;
+  o.target_triangles = 2000;
+  model::write_mesh(sim::make_head(sim::head_params(1), o).mesh, (w / "a.ply").string());
+  model::write_mesh(sim::make_head(sim::head_params(2), o).mesh, (w / "b.ply").string());
+  const Result r = orthoface("similarity a.ply b.ply", w);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("shape_index"), std::string::npos);
+  expect_clean_error(orthoface("similarity a.ply b.ply a.ply", w), "-o DIR");
+  const Result m = orthoface("similarity a.ply b.ply a.ply -o mat", w);
+  ASSERT_EQ(m.code, 0) << m.err;
+  EXPECT_TRUE(fs::exists(w / "mat" / "similarity_shape_index.png"));
+}
+
+TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch");
+  fs::create_directories(w / "meshes");
+  sim::HeadOptions o;
+  o.target_triangles = 2000;
+  for (int s = 0; s < 4; ++s)
+    model::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                      (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+  const Result one = run("'" + batch.string() + "'", "similarity meshes -o one", w);
+  ASSERT_EQ(one.code, 0) << one.err;
+  if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
+  const Result two = run("mpirun -np 2 --allow-run-as-root --oversubscribe '" + batch.string() + "'",
+                         "similarity meshes -o two", w);
+  ASSERT_EQ(two.code, 0) << two.err;
+  EXPECT_NE(two.err.find("4/4"), std::string::npos) << two.err;  // progress bar reached the end
+  EXPECT_EQ(slurp(w / "one" / "similarity_shape_index.csv"), slurp(w / "two" / "similarity_shape_index.csv"));
+  expect_clean_error(run("'" + batch.string() + "'", "similarity nowhere -o x", w), "nowhere");
+}
+
+}  // namespace
+}  // namespace orthoface::app
