@@ -25,8 +25,8 @@ namespace {
 Command simulate_command() {
   return {"simulate",
           "Render a simulated head (or the Lee Perry-Smith scan) from the front and side cameras "
-          "and write front.png side.png truth.obj (+ .mtl, texture) landmarks.json rig.yaml "
-          "background.png background_side.png. rig.yaml holds the NOMINAL rig a station would "
+          "and write front.png side.png (+ _mask.png) truth.obj (+ .mtl, .png) landmarks.json "
+          "rig.yaml background.png background_side.png. rig.yaml holds the NOMINAL rig a station would "
           "believe; landmarks.json holds the true cameras too.",
           "orthoface simulate --subject N --out DIR [options]",
           {{"subject", true, "N  head seed, 0..1000000 (not with --scan)"},

@@ -149,13 +149,18 @@ TEST(SimulateCommand, BadArgumentsGiveOneErrorLineAndNoFiles) {
       "simulate --subject 1 --out out --size 640",
       "simulate --subject 1 --out out --frobnicate",
       "simulate --subject 1 --out out extra_argument",
+  }, "app_simulate_bad_args");
+}
+
+TEST(SimulateCommand, BadSubjectOrScanGivesOneErrorLineAndNoFiles) {
+  expect_clean_failures({
       "simulate --subject 1",
       "simulate --out out",
       "simulate --subject 1 --scan lee-perry-smith --out out",
       "simulate --scan nobody --out out",
       "simulate --scan lee-perry-smith --data /nonexistent --out out",
       "simulate --scan lee-perry-smith --data corrupt --out out",
-  }, "app_simulate_bad_args");
+  }, "app_simulate_bad_subject");
 }
 
 TEST(SimulateCommand, BadValuesGiveOneErrorLineAndNoFiles) {
