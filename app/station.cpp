@@ -186,7 +186,7 @@ capture::CameraModel view_camera(const capture::RigCalibration& rig, double yaw_
 void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
   if (synth_) {
     const double t = capture::monotonic_now_s();
-    if (frames_out_ % s_.retexture_every == 0) {
+    if (frames_out_ % s_.retexture_every == 0 || texture_time_ == 0) {
       synth_->set_photos(front.image, side.image);
       texture_time_ = std::min(front.timestamp_s, side.timestamp_s);
       retexture_ms_.push_back((capture::monotonic_now_s() - t) * 1e3);

@@ -198,3 +198,28 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
 }
 
 }  // namespace
+
+namespace {
+
+// The unchanged orthoface binary against the fake V4L2 device (LD_PRELOAD).
+TEST(CaptureCommand, ProductionBinaryThroughFakeV4l2) {
+  const auto dir = orthoface::testing::temp_dir("capture_fake_v4l2");
+  const std::string env = std::string("LD_PRELOAD=") + FAKE_V4L2_LIB +
+                          " ORTHOFACE_FAKE_V4L2=/dev/video42,/dev/video43 ORTHOFACE_FAKE_V4L2_CTL=" +
+                          dir.string();
+  const CmdResult devices = orthoface("devices", env);
+  ASSERT_EQ(devices.code, 0) << devices.output;
+  EXPECT_NE(devices.output.find("/dev/video42  (orthoface fake camera)"), std::string::npos) << devices.output;
+  EXPECT_NE(devices.output.find("MJPG 640x480 @ 30/15 fps"), std::string::npos);
+  const CmdResult r = orthoface("capture --front /dev/video42 --side /dev/video43 --no-reconstruct --out " +
+                                (dir / "out").string(), env);
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_EQ(cv::imread((dir / "out/pair/front.png").string()).size(), cv::Size(640, 480));
+  const CmdResult lacking = orthoface("capture --front /dev/video42 --side /dev/video43 --size 800x600 "
+                                      "--no-reconstruct --out " + (dir / "out2").string(), env);
+  EXPECT_EQ(lacking.code, 1);
+  EXPECT_NE(lacking.output.find("error: camera /dev/video42: no mode of 800x600"), std::string::npos)
+      << lacking.output;
+}
+
+}  // namespace
