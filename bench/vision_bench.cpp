@@ -139,8 +139,8 @@ cv::Point2d mean_of(const std::vector<cv::Point2d>& p, int a, int b) {
   return m / double(b - a + 1);
 }
 
-// The iBUG photos have no side view: the front is observed with itself as a stand-in side
-// (profile landmarks then come from the position model rows), so this scores the front filters.
+// The iBUG photos have no side view: observe_front() alone (midline rows from the position
+// model), scoring the front filters.
 int ibug(const std::string& dir) {
   json res = json::array();
   for (const std::string name : {"image_0010", "einstein"}) {
@@ -150,7 +150,7 @@ int ibug(const std::string& dir) {
     json r = {{"image", name}};
     try {
       const cv::Mat im = ov::read_image(img);
-      const ov::FaceObservation obs = ov::observe(im, cv::Mat(im.rows, im.cols, CV_8UC3, cv::Scalar(0, 0, 0)));
+      const ov::FaceObservation obs = ov::observe_front(im);
       const cv::Point2d er = mean_of(pts, 36, 41), el = mean_of(pts, 42, 47);  // image-left, image-right
       const double iod = cv::norm(el - er);
       const auto err = [&](const char* n, cv::Point2d t) {
@@ -163,6 +163,7 @@ int ibug(const std::string& dir) {
       const auto ml = obs.front.features.find("mouth_left"), mr = obs.front.features.find("mouth_right");
       r["mouth_centre"] = (ml == obs.front.features.end() || mr == obs.front.features.end())
                               ? -1.0 : cv::norm((ml->second.px + mr->second.px) / 2 - mean_of(pts, 48, 67)) / iod;
+      r["inter_ocular_px"] = iod;
       r["warnings"] = obs.warnings;
       cv::imwrite("/tmp/vision_ibug_" + name + ".png", ov::overlay_front(im, obs));
     } catch (const std::exception& e) {

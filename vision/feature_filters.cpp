@@ -17,6 +17,11 @@ cv::Rect clip(const cv::Mat& m, double x0, double y0, double x1, double y1) {
   return r & cv::Rect(0, 0, m.cols, m.rows);
 }
 
+// Window clipped to the part of the image the context converted.
+cv::Rect clip_to(const FilterContext& c, double x0, double y0, double x1, double y1) {
+  return clip(c.bgr, x0, y0, x1, y1) & c.roi;
+}
+
 Feature2d make(cv::Point2d p, double conf, const std::string& method) {
   Feature2d f;
   f.px = p;
@@ -70,7 +75,7 @@ Blob blob_at(const cv::Mat& m, cv::Point seed) {
 // Darkest point of the blurred grey inside roi (image coordinates) and its contrast to the median.
 cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, double* contrast) {
   cv::Mat g;
-  cv::GaussianBlur(c.grey(roi), g, cv::Size(), sigma);
+  cv::GaussianBlur(c.grey(roi), g, cv::Size(), sigma, 0, cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
   double lo = 0;
   cv::Point at;
   cv::minMaxLoc(g, &lo, nullptr, &at);
@@ -85,8 +90,17 @@ cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, dou
 FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W) {
   FilterContext c;
   c.bgr = bgr;
-  cv::cvtColor(bgr, c.grey, cv::COLOR_BGR2GRAY);
-  cv::cvtColor(bgr, c.lab, cv::COLOR_BGR2Lab);
+  // Only the face box (the filters' windows stay inside it) is converted; the rest of the
+  // full-size grey / Lab images is left unset. A whole-image conversion dominated the time.
+  c.grey.create(bgr.size(), CV_8U);
+  c.lab.create(bgr.size(), CV_8UC3);
+  const cv::Rect face = clip(bgr, at.x - 0.8 * W, at.y - 1.2 * W, at.x + 0.8 * W, at.y + 1.0 * W);
+  c.roi = face;
+  if (face.area() > 0) {
+    cv::Mat g = c.grey(face), l = c.lab(face);
+    cv::cvtColor(bgr(face), g, cv::COLOR_BGR2GRAY);
+    cv::cvtColor(bgr(face), l, cv::COLOR_BGR2Lab);
+  }
   const double h = std::max(3.0, 0.05 * W);
   const cv::Rect roi = clip(bgr, at.x - 2.5 * h, at.y - h, at.x - 1.0 * h, at.y + h) |
                        clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h);
@@ -100,11 +114,11 @@ FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W) 
 EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double H, bool il) {
   EyeFound e;
   const double s = il ? -1 : 1;
-  const cv::Rect win = clip(c.grey, x0 + s * 0.07 * W, rn - 0.03 * H, x0 + s * 0.42 * W, rn + 0.09 * H);
+  const cv::Rect win = clip_to(c, x0 + s * 0.07 * W, rn - 0.03 * H, x0 + s * 0.42 * W, rn + 0.09 * H);
   if (win.area() < 16) return e;
   double contrast = 0;
   const cv::Point iris = darkest(c, win, std::max(1.0, 0.012 * W), &contrast);
-  const cv::Rect band = clip(c.grey, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
+  const cv::Rect band = clip_to(c, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
   cv::Mat m = non_skin(c, band, 22.0);
   cv::morphologyEx(m, m, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
   const Blob b = blob_at(m, iris - band.tl());
@@ -127,25 +141,39 @@ EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double
 
 MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_ll, double W, double H) {
   MouthFound mo;
-  const cv::Rect win = clip(c.grey, x0 - 0.32 * W, r_lu - 0.04 * H, x0 + 0.32 * W, r_ll + 0.04 * H);
+  const cv::Rect win = clip_to(c, x0 - 0.32 * W, r_lu - 0.04 * H, x0 + 0.32 * W, r_ll + 0.04 * H);
   if (win.area() < 16) return mo;
-  cv::Mat m(win.size(), CV_8U);
+  // Lip redness against the skin: a fixed margin first; pale real lips (a few Lab a* units
+  // redder than the skin) get a second try with a threshold adapted to the window's reddest tenth.
+  std::vector<float> da;
+  da.reserve(win.area());
   for (int r = 0; r < win.height; ++r) {
     const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(win.y + r) + win.x;
-    for (int x = 0; x < win.width; ++x)
-      m.at<uchar>(r, x) = (p[x][1] - c.skin[1] > 6 || p[x][0] < c.skin[0] - 35) ? 255 : 0;
+    for (int x = 0; x < win.width; ++x) da.push_back(p[x][1] - c.skin[1]);
   }
-  cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  std::nth_element(da.begin(), da.begin() + da.size() * 9 / 10, da.end());
+  const float adaptive = std::clamp(0.5f * da[da.size() * 9 / 10], 2.5f, 6.0f);
   const cv::Point seed(int(x0) - win.x, int((r_lu + r_ll) / 2) - win.y);
-  Blob b = blob_at(m, seed);
-  if (!b.ok) {  // seed missed the lips: take the component nearest the seed
-    std::vector<cv::Point> nz;
-    cv::findNonZero(m, nz);
-    if (nz.empty()) return mo;
-    const auto best = std::min_element(nz.begin(), nz.end(), [&](cv::Point a, cv::Point d) {
-      return cv::norm(a - seed) < cv::norm(d - seed);
-    });
-    b = blob_at(m, *best);
+  Blob b;
+  for (const float tau : {6.0f, adaptive}) {
+    cv::Mat m(win.size(), CV_8U);
+    for (int r = 0; r < win.height; ++r) {
+      const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(win.y + r) + win.x;
+      for (int x = 0; x < win.width; ++x)
+        m.at<uchar>(r, x) = (p[x][1] - c.skin[1] > tau || p[x][0] < c.skin[0] - 35) ? 255 : 0;
+    }
+    cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+    b = blob_at(m, seed);
+    if (!b.ok) {  // seed missed the lips: take the component nearest the seed
+      std::vector<cv::Point> nz;
+      cv::findNonZero(m, nz);
+      if (nz.empty()) continue;
+      const auto best = std::min_element(nz.begin(), nz.end(), [&](cv::Point a, cv::Point d) {
+        return cv::norm(a - seed) < cv::norm(d - seed);
+      });
+      b = blob_at(m, *best);
+    }
+    if (b.ok && b.right.x - b.left.x >= 0.15 * W) break;
   }
   const double width = b.right.x - b.left.x;
   if (!b.ok || width < 0.15 * W) return mo;
@@ -158,10 +186,11 @@ MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_l
 
 NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_sub, double W, double H) {
   NoseFound n;
-  const cv::Rect win = clip(c.grey, x0 - 0.15 * W, r_tip, x0 + 0.15 * W, r_sub + 0.03 * H);
+  if (c.roi.width < 3 || c.roi.height < 3) return n;
+  const cv::Rect win = clip_to(c, x0 - 0.15 * W, r_tip, x0 + 0.15 * W, r_sub + 0.03 * H);
   if (win.area() < 16) return n;
   cv::Mat g;
-  cv::GaussianBlur(c.grey(win), g, cv::Size(), 1.0);
+  cv::GaussianBlur(c.grey(win), g, cv::Size(), 1.0, 0, cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
   double pos[2] = {0, 0}, val[2] = {1e9, 1e9};
   double py[2] = {0, 0};
   for (int r = 0; r < g.rows; ++r)
@@ -178,10 +207,10 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
   for (int side = 0; side < 2; ++side) {
     const double s = side == 0 ? -1 : 1;
     ax[side] = x0 + s * 1.9 * d;
-    const int y = std::clamp(int(std::lround(row)), 1, c.grey.rows - 2);
+    const int y = std::clamp(int(std::lround(row)), c.roi.y + 1, c.roi.br().y - 2);
     double best = 0;
     for (double t = 1.4 * d; t <= 2.5 * d; t += 0.5) {
-      const int x = std::clamp(int(std::lround(x0 + s * t)), 1, c.grey.cols - 2);
+      const int x = std::clamp(int(std::lround(x0 + s * t)), c.roi.x + 1, c.roi.br().x - 2);
       const double gx = std::abs(double(c.grey.at<uchar>(y, x + 1)) - c.grey.at<uchar>(y, x - 1));
       if (gx > best && gx > 6) best = gx, ax[side] = x0 + s * t;
     }
@@ -213,7 +242,7 @@ void add_brow_features(const FilterContext& c, const EyeFound& a, const EyeFound
     const EyeFound& e = side == 0 ? a : b;
     if (!e.ok) continue;
     const std::string name = side == 0 ? "brow_right_" : "brow_left_";
-    const cv::Rect win = clip(c.grey, e.centre.x - 0.17 * W, e.centre.y - 0.11 * H,
+    const cv::Rect win = clip_to(c, e.centre.x - 0.17 * W, e.centre.y - 0.11 * H,
                               e.centre.x + 0.17 * W, e.centre.y - 0.025 * H);
     if (win.area() < 16) continue;
     cv::Mat m;

@@ -8,10 +8,12 @@ namespace orthoface::vision {
 
 // Local filters for the front-view features (used by front_features; index coordinates).
 struct FilterContext {
-  cv::Mat bgr, grey, lab;  // lab: 8-bit OpenCV Lab
+  cv::Mat bgr, grey, lab;  // lab: 8-bit OpenCV Lab; grey and lab are set inside roi only
+  cv::Rect roi;             // face box around the skin point; filter windows are clipped to it
   cv::Vec3f skin{0, 0, 0};  // Lab of the cheek skin
 };
-// Grey and Lab images plus the skin colour around `skin_at` (a patch of size ~0.1 W).
+// Grey and Lab images (inside a face box of about 1.6 W x 2.2 W around `skin_at`) plus the
+// skin colour around `skin_at` (a patch of size ~0.1 W).
 FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d skin_at, double W);
 
 struct EyeFound {

@@ -127,8 +127,19 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
   for (const char* n : {"forehead_top", "nose_bridge", "nose_tip", "subnasale", "lip_upper",
                         "lip_lower", "chin", "chin_bottom"}) {
     const auto it = rows.find(n);
-    if (it == rows.end()) continue;
-    out.features[n] = make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
+    if (it != rows.end())
+      out.features[n] = make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
+  }
+  if (rows.empty()) {  // front view alone: midline rows from the position model
+    const double r_mouth = mouth.ok ? 0.5 * (mouth.corner_image_left.y + mouth.corner_image_right.y) : r_lu + 0.02 * H;
+    // With both eyes and the mouth: nose rows at their usual share of the eye-to-mouth span.
+    const bool em = er.ok && el.ok && mouth.ok;
+    const double ye = 0.5 * (er.centre.y + el.centre.y), D = r_mouth - ye;
+    const std::pair<const char*, double> guess[] = {
+        {"forehead_top", top + 0.2 * H}, {"nose_bridge", em ? ye - 0.05 * D : r_nasion},
+        {"nose_tip", em ? ye + 0.62 * D : r_tip}, {"subnasale", em ? ye + 0.74 * D : r_sub}, {"lip_upper", r_mouth - 0.025 * H}, {"lip_lower", r_mouth + 0.035 * H},
+        {"chin", top + 0.93 * H}, {"chin_bottom", top + H}};
+    for (const auto& [n, y] : guess) out.features[n] = make(on_line(y), 0.2 * out.centre.confidence, "position-model");
   }
   out.features["cheek_right"] = make({cheek_x(fb.left, r_tip, H, -1), r_tip}, fb.confidence, "boundary-without-ear");
   out.features["cheek_left"] = make({cheek_x(fb.right, r_tip, H, 1), r_tip}, fb.confidence, "boundary-without-ear");

@@ -45,7 +45,7 @@ SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
     return r;
   }
   if (blobs > 1) warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
-  r.faces_left = profile_faces_left(mask, &r.facing_confidence);
+  r.faces_left = profile_faces_left(mask, side, &r.facing_confidence);
   if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
     warn.push_back("side view: facing direction unsure; give --side-camera left|right");
@@ -143,6 +143,16 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   add_side_ears(s, ears);
   for (auto& [n, f] : ears) f.px = out_px(f.px), obs.side.features[n] = f;
   add_front_tragi(obs);
+  return obs;
+}
+
+FaceObservation observe_front(const cv::Mat& front_in, const ObserveOptions& o) {
+  o.check();
+  const cv::Mat front = to_bgr8(front_in, "front image");
+  const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
+  FaceObservation obs;
+  obs.front.width = front.cols, obs.front.height = front.rows;
+  observe_front(front, bgf, SideProfile{}, 1.0, o, obs);
   return obs;
 }
 

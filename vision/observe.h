@@ -29,6 +29,12 @@ struct ObserveOptions {
 // without a face gives an observation with empty parts and warnings that say so.
 FaceObservation observe(const cv::Mat& front, const cv::Mat& side, const ObserveOptions& options = {});
 
+// Front view alone (no side photo, e.g. a frontal face collection): boundary, centre line and
+// front features; midline rows come from the position model (method "position-model", low
+// confidence) instead of the side profile. Same input checks and conversions as observe();
+// obs.side stays empty.
+FaceObservation observe_front(const cv::Mat& front, const ObserveOptions& options = {});
+
 // True when both outlines and every front feature and profile landmark are present with
 // non-zero confidence (ears excluded); `missing` (optional) lists what is not.
 bool is_complete(const FaceObservation& obs, std::string* missing = nullptr);

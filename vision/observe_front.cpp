@@ -36,6 +36,22 @@ void check_not_profile(const cv::Mat& mask, std::vector<std::string>& warn) {
     warn.push_back("front view: silhouette is asymmetric; the head may be turned");
 }
 
+// No head against the border colours: when leaving one side strip out of the background model
+// reveals a head touching that side, the head is cut off there (its colours fill the strip).
+std::string cut_off_border(const cv::Mat& front) {
+  for (int side = 0; side < 2; ++side) {
+    SegmentOptions so;
+    (side == 0 ? so.sample_left : so.sample_right) = false;
+    const cv::Mat m = head_mask(foreground_probability(front, {}, so), so);
+    if (m.empty()) continue;
+    const cv::Mat edge = m.col(side == 0 ? 0 : m.cols - 1);
+    if (cv::countNonZero(edge) > 0.1 * m.rows)
+      return std::string("front view: head cut off by the ") + (side == 0 ? "left" : "right") +
+             " image border (no background seen there); move the camera or the subject";
+  }
+  return {};
+}
+
 // Optional Haar check (never the default): a frontal face box should hold the eyes; when an eye
 // was only mirrored, a Haar eye inside the face box replaces it.
 void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& ff,
@@ -73,7 +89,8 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const SideProfile& s
   int blobs = 0;
   const cv::Mat mask = head_mask(prob, {}, &blobs);
   if (mask.empty()) {
-    warn.push_back("front view: no head found (no subject distinct from the background)");
+    warn.push_back(bg.empty() ? cut_off_border(front) : std::string());
+    if (warn.back().empty()) warn.back() = "front view: no head found (no subject distinct from the background)";
     return;
   }
   if (blobs > 1) warn.push_back("front view: " + std::to_string(blobs) + " heads; using the central one");

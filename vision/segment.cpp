@@ -25,7 +25,8 @@ inline int bin_of(const cv::Vec3b& c) {
 }
 
 // Colour histogram of the left, right and top border strips (the bottom holds the body).
-std::vector<float> border_histogram(const cv::Mat& bgr, double fraction) {
+std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool use_left,
+                                    bool use_right) {
   std::vector<float> h(kBins * kBins * kBins, 0.f);
   const int bw = std::max(2, int(bgr.cols * fraction)), bh = std::max(2, int(bgr.rows * fraction));
   const int side_rows = int(bgr.rows * 0.75);
@@ -35,8 +36,8 @@ std::vector<float> border_histogram(const cv::Mat& bgr, double fraction) {
       for (int c = 0; c < bgr.cols / 3; c += 2) h[bin_of(p[c])] += 1;
       for (int c = bgr.cols - bgr.cols / 3; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
     } else if (r < side_rows) {
-      for (int c = 0; c < bw; c += 2) h[bin_of(p[c])] += 1;
-      for (int c = bgr.cols - bw; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
+      for (int c = 0; use_left && c < bw; c += 2) h[bin_of(p[c])] += 1;
+      for (int c = bgr.cols - bw; use_right && c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
     }
   }
   // Spread each count to its 26 neighbours: sensor noise moves colours across bin borders.
@@ -62,10 +63,10 @@ std::vector<float> border_histogram(const cv::Mat& bgr, double fraction) {
   return s;
 }
 
-cv::Mat from_border_model(const cv::Mat& bgr, double fraction) {
+cv::Mat from_border_model(const cv::Mat& bgr, const SegmentOptions& o) {
   cv::Mat smooth;
   cv::GaussianBlur(bgr, smooth, cv::Size(5, 5), 1.0);
-  const std::vector<float> dens = border_histogram(smooth, fraction);
+  const std::vector<float> dens = border_histogram(smooth, o.border_fraction, o.sample_left, o.sample_right);
   cv::Mat p(bgr.size(), CV_32F);
   for (int r = 0; r < bgr.rows; ++r) {
     const cv::Vec3b* s = smooth.ptr<cv::Vec3b>(r);
@@ -108,7 +109,7 @@ cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
   options.check();
   if (bgr.empty() || bgr.type() != CV_8UC3)
     throw std::invalid_argument("foreground_probability: expected 8-bit BGR image");
-  if (background.empty()) return from_border_model(bgr, options.border_fraction);
+  if (background.empty()) return from_border_model(bgr, options);
   if (background.size() != bgr.size() || background.type() != CV_8UC3)
     throw std::invalid_argument("foreground_probability: background frame is " +
                                 std::to_string(background.cols) + "x" +

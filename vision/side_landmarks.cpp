@@ -34,13 +34,14 @@ int argmin_x(const std::vector<cv::Point2d>& c, int a, int b) {
   return best;
 }
 
-// Lab colour a few pixels inside the profile (the head is to the right of a left-facing curve).
-cv::Vec3f inside_colour(const cv::Mat& lab, const std::vector<cv::Point2d>& c, int i, double d) {
+// Lab colour (`lab` holds the box starting at `origin`) a few pixels inside the profile (the head is to the right of a left-facing curve).
+cv::Vec3f inside_colour(const cv::Mat& lab, cv::Point origin, const std::vector<cv::Point2d>& c,
+                        int i, double d) {
   const int j0 = std::max(0, i - 2), j1 = std::min(int(c.size()) - 1, i + 2);
   cv::Point2d t = c[j1] - c[j0];
   const double len = std::max(1e-9, cv::norm(t));
   const cv::Point2d in(t.y / len, -t.x / len);  // right-hand normal of a downward walk = inside
-  const cv::Point2d p = c[i] + d * (in.x >= 0 ? in : -in);
+  const cv::Point2d p = c[i] + d * (in.x >= 0 ? in : -in) - cv::Point2d(origin);
   const int x = std::clamp(int(std::lround(p.x)), 0, lab.cols - 1);
   const int y = std::clamp(int(std::lround(p.y)), 0, lab.rows - 1);
   return lab.at<cv::Vec3f>(y, x);
@@ -49,19 +50,24 @@ cv::Vec3f inside_colour(const cv::Mat& lab, const std::vector<cv::Point2d>& c, i
 // Hairline: walking up from `start`, the first place the colour inside the profile leaves the
 // forehead skin colour for good. Returns -1 when the colour never changes.
 int hairline(const cv::Mat& bgr, const std::vector<cv::Point2d>& c, int start, double h) {
-  cv::Mat f, lab;
-  bgr.convertTo(f, CV_32F, 1.0 / 255);
-  cv::cvtColor(f, lab, cv::COLOR_BGR2Lab);
   const double inset = std::max(3.0, 0.02 * h);
+  // Lab only inside the box the samples can reach (a whole-image conversion dominated the time).
+  cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(c.begin(), c.begin() + start + 1));
+  const int pad = int(inset) + 3;
+  box = cv::Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad) &
+        cv::Rect(0, 0, bgr.cols, bgr.rows);
+  cv::Mat f, lab;
+  bgr(box).convertTo(f, CV_32F, 1.0 / 255);
+  cv::cvtColor(f, lab, cv::COLOR_BGR2Lab);
   const int nref = std::max(5, int(0.05 * h));
   cv::Vec3f ref(0, 0, 0);
   int cnt = 0;
-  for (int i = start; i > start - nref && i >= 0; --i, ++cnt) ref += inside_colour(lab, c, i, inset);
+  for (int i = start; i > start - nref && i >= 0; --i, ++cnt) ref += inside_colour(lab, box.tl(), c, i, inset);
   if (cnt == 0) return -1;
   ref *= 1.0f / cnt;
   int run = 0;
   for (int i = start - nref; i >= 0; --i) {
-    const double d = cv::norm(inside_colour(lab, c, i, inset) - ref);
+    const double d = cv::norm(inside_colour(lab, box.tl(), c, i, inset) - ref);
     run = d > 18.0 ? run + 1 : 0;
     if (run >= 4) return i + 3;
   }
@@ -122,7 +128,19 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   const int menton = tangent_closest(c, pog, under, M_PI / 4);  // down-and-back at 45 deg
   sp.features["chin_bottom"] = make(c[menton], conf * 0.8, "profile-tangent");
   if (mins.empty()) {
-    sp.warnings.push_back("side view: lips not found on the profile");
+    // Lips flush with the profile (no extremum): subnasale = deepest point behind the chord in
+    // the upper third below the tip, lips = most projecting points near their usual share of
+    // the subnasale-to-chin height (position model, low confidence).
+    const int sub = deepest_behind_chord(c, tip, tip + (pog - tip) / 3, &depth);
+    sp.features["subnasale"] = make(c[sub], conf * 0.4, "profile-concavity");
+    const double ys = c[sub].y, span = c[pog].y - ys;
+    const auto near_row = [&](double f) {
+      const int a = first_row_at_least(c, ys + (f - 0.1) * span);
+      return argmin_x(c, a, std::max(a, first_row_at_least(c, ys + (f + 0.1) * span)));
+    };
+    sp.features["lip_upper"] = make(c[near_row(0.3)], conf * 0.3, "profile-position-model");
+    sp.features["lip_lower"] = make(c[near_row(0.62)], conf * 0.3, "profile-position-model");
+    sp.warnings.push_back("side view: lips do not stand out on the profile; placed by position");
   } else {
     const int lu = mins.front();
     sp.features["lip_upper"] = make(c[lu], conf, "profile-extremum");

@@ -9,6 +9,7 @@
 #include "vision/contour_chain.h"
 #include "vision/curve_features.h"
 #include "vision/edges.h"
+#include "vision/segment.h"
 
 namespace orthoface::vision {
 
@@ -29,14 +30,6 @@ double head_height_estimate(const RowExtent& e) {
     if (r - e.top > 0.9 * m && m > 10) break;
   }
   return 1.2 * m;
-}
-
-Feature2d feature(cv::Point2d p, double conf, const std::string& method) {
-  Feature2d f;
-  f.px = p;
-  f.confidence = conf;
-  f.method = method;
-  return f;
 }
 
 // Refined dense profile: mask chain -> B-spline -> iterative fit on the probability edges.
@@ -63,15 +56,64 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
 }  // namespace
 
 bool profile_faces_left(const cv::Mat& mask, double* confidence) {
+  return profile_faces_left(mask, cv::Mat(), confidence);
+}
+
+// Lit skin stands on the face side of the head and (darker) hair at the back: mean offset, in
+// units of 0.1 x head depth, of the columns of skin-coloured pixels brighter than the blob's
+// median from the columns of all blob pixels over the head rows; positive when that skin lies
+// left of the blob middle. 0 when too little such skin is seen (e.g. fair hair, bald heads).
+double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, double h) {
+  const int r0 = std::max(0, e.top), r1 = std::min(e.bottom, int(e.top + 0.8 * h));
+  if (r1 <= r0) return 0;
+  const cv::Rect roi(0, r0, mask.cols, r1 - r0 + 1);
+  const cv::Mat skin = skin_probability(bgr(roi));
+  cv::Mat g;
+  cv::cvtColor(bgr(roi), g, cv::COLOR_BGR2GRAY);
+  std::vector<int> hist(256, 0);
+  double mx = 0, mn = 0, depth = 0;
+  for (int r = 0; r < roi.height; ++r) {
+    const uchar* m = mask.ptr<uchar>(r0 + r);
+    for (int c = std::max(0, e.left[r0 + r]); e.left[r0 + r] >= 0 && c <= e.right[r0 + r]; ++c)
+      if (m[c]) mx += c, ++mn, ++hist[g.at<uchar>(r, c)];
+    if (e.left[r0 + r] >= 0) depth = std::max(depth, double(e.right[r0 + r] - e.left[r0 + r]));
+  }
+  int med = 0;
+  for (double acc = 0; med < 255 && (acc += hist[med]) < mn / 2;) ++med;
+  double sx = 0, sn = 0;
+  for (int r = 0; r < roi.height; ++r) {
+    const uchar* m = mask.ptr<uchar>(r0 + r);
+    const float* s = skin.ptr<float>(r);
+    const uchar* gr = g.ptr<uchar>(r);
+    for (int c = std::max(0, e.left[r0 + r]); e.left[r0 + r] >= 0 && c <= e.right[r0 + r]; ++c)
+      if (m[c] && s[c] > 0.5f && gr[c] > med + 10) sx += c, ++sn;
+  }
+  if (sn < 0.05 * mn || depth < 10) return 0;
+  return (mx / mn - sx / sn) / (0.1 * depth);
+}
+
+bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence) {
+  if (!bgr.empty() && (bgr.size() != mask.size() || bgr.type() != CV_8UC3))
+    throw std::invalid_argument("profile_faces_left: image and mask differ in size/type");
   const RowExtent e = row_extent(mask);
   if (confidence) *confidence = 0;
   if (e.top < 0) return true;
   const double h = head_height_estimate(e);
-  // Two cues: the nose bump sticks out on the face side, and the neck stands behind the face.
+  // Cues: the nose bump sticks out on the face side; the neck stands behind the face (only
+  // when the neck is narrower than the head: a torso inside the blob hides it); skin lies on
+  // the face side of the hair.
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * h), int(e.top + 0.85 * h));
   const double bump = (p.x - p.y) / std::max(4.0, 0.04 * h);
-  const double neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
-  const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0);
+  double neck = 0, neck_w = 0, head_w = 0;
+  int nr = 0;
+  for (int r = int(e.top + 1.0 * h); r <= std::min(e.bottom, int(e.top + 1.15 * h)); ++r)
+    if (r >= 0 && e.left[r] >= 0) neck_w += e.right[r] - e.left[r], ++nr;
+  for (int r = e.top; r <= std::min(e.bottom, int(e.top + 0.8 * h)); ++r)
+    if (e.left[r] >= 0) head_w = std::max(head_w, double(e.right[r] - e.left[r]));
+  if (nr > 0 && neck_w / nr < 0.8 * head_w) neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
+  const double skin = bgr.empty() ? 0.0 : skin_offset(mask, bgr, e, h);
+  const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0) +
+                      3.0 * std::clamp(skin, -2.0, 2.0);
   if (confidence) *confidence = std::clamp(std::abs(vote) / 2.0, 0.0, 1.0);
   return vote >= 0;
 }

@@ -43,5 +43,8 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);
 // True when the profile in `mask` (head blob of a side image) looks toward the image left;
 // `confidence` (optional) gets 0..1 from how much one side's nose bump dominates.
 bool profile_faces_left(const cv::Mat& mask, double* confidence = nullptr);
+// Same, also voting with where the skin of `bgr` (8-bit BGR, size of `mask`; may be empty) lies
+// in the blob: face skin in front, hair behind. Throws std::invalid_argument on a size mismatch.
+bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence);
 
 }  // namespace orthoface::vision

