@@ -42,8 +42,8 @@ TEST(DemoCommand, WritesAContactSheetAndOneFolderPerSubject) {
   const int rows = testing::shared_data("lee_perry_smith_head").empty() ? 3 : 4;
   EXPECT_GT(sheet.rows, rows * 240);
   for (const char* sub : {"subject_0", "subject_1", "subject_2"}) {
-    EXPECT_TRUE(fs::exists(work / "d" / sub / "front.png")) << sub;
-    EXPECT_TRUE(fs::exists(work / "d" / sub / "landmarks.json")) << sub;
+    EXPECT_TRUE(fs::exists(work / "d" / sub / "sim" / "front.png")) << sub;
+    EXPECT_TRUE(fs::exists(work / "d" / sub / "sim" / "landmarks.json")) << sub;
   }
 }
 
