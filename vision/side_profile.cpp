@@ -100,7 +100,7 @@ bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confide
   if (e.top < 0) return true;
   const double h = head_height_estimate(e);
   // Cues: the nose bump sticks out on the face side; the neck stands behind the face (only
-  // when the neck is narrower than the head: a torso inside the blob hides it); skin lies on
+  // when those rows are narrower than the head: wider, they are the torso); skin lies on
   // the face side of the hair.
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * h), int(e.top + 0.85 * h));
   const double bump = (p.x - p.y) / std::max(4.0, 0.04 * h);
@@ -110,7 +110,7 @@ bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confide
     if (r >= 0 && e.left[r] >= 0) neck_w += e.right[r] - e.left[r], ++nr;
   for (int r = e.top; r <= std::min(e.bottom, int(e.top + 0.8 * h)); ++r)
     if (e.left[r] >= 0) head_w = std::max(head_w, double(e.right[r] - e.left[r]));
-  if (nr > 0 && neck_w / nr < 0.8 * head_w) neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
+  if (nr > 0 && neck_w / nr < head_w) neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
   const double skin = bgr.empty() ? 0.0 : skin_offset(mask, bgr, e, h);
   const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0) +
                       3.0 * std::clamp(skin, -2.0, 2.0);
