@@ -44,6 +44,7 @@ TEST(LoadScan, SimHeadAsObjGivesItsOwnProfileLandmarksAndScale) {
 
 TEST(LoadScan, RejectsBadInput) {
   EXPECT_THROW(load_scan("/nonexistent/head.obj"), std::runtime_error);
+  EXPECT_THROW(lee_perry_smith_head("/nonexistent"), std::runtime_error);
   ScanOptions o;
   o.mm_per_unit = -1;
   EXPECT_THROW(load_scan("/nonexistent/head.obj", o), std::invalid_argument);
