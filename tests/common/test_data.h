@@ -1,5 +1,7 @@
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <string>
 
@@ -12,9 +14,11 @@ inline std::string shared_data(const std::string& relative) {
   return std::filesystem::exists(p) ? p.string() : std::string();
 }
 
-// A fresh empty folder under the test temp dir, named after the test.
+// A fresh empty folder under the test temp dir, named after the test and this process (ctest
+// runs each test in its own process, several at once, so a shared name would race).
 inline std::filesystem::path temp_dir(const std::string& name) {
-  const auto p = std::filesystem::temp_directory_path() / ("orthoface_test_" + name);
+  const auto p = std::filesystem::temp_directory_path() /
+                 ("orthoface_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;
