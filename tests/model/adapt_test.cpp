@@ -100,6 +100,22 @@ TEST(Adapt, MissingFeaturesFallBackWithWarning) {
   EXPECT_NEAR((r.landmarks.at("nose_tip") - s.truth.mesh.vertices[s.truth.features.at("nose_tip")]).norm(), 0.0, 3.0);
 }
 
+TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
+  s.observation.front.features["mouth_left"].px.y += 80;  // 50 mm below the mouth
+  s.observation.side.features["mouth_left"].px.y += 80;
+  const StereoData d = stereo_match(s.observation, s.rig);
+  const AdaptResult r = adapt(base, d);
+  bool warned = false;
+  for (const auto& w : r.warnings) warned |= w.find("'mouth_left' is") != std::string::npos;
+  EXPECT_TRUE(warned);
+  EXPECT_NEAR((r.landmarks.at("mouth_left") - s.truth.mesh.vertices[s.truth.features.at("mouth_left")]).norm(), 0.0, 3.0);
+  AdaptOptions bad;
+  bad.max_feature_shift_mm = 0;
+  EXPECT_THROW(adapt(base, d, bad), std::invalid_argument);
+}
+
 TEST(Adapt, BadKThrows) {
   const BaseMesh base = base_mesh();
   const auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
