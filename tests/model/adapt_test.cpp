@@ -110,7 +110,8 @@ TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
   bool warned = false;
   for (const auto& w : r.warnings) warned |= w.find("'mouth_left' is") != std::string::npos;
   EXPECT_TRUE(warned);
-  EXPECT_NEAR((r.landmarks.at("mouth_left") - s.truth.mesh.vertices[s.truth.features.at("mouth_left")]).norm(), 0.0, 3.0);
+  // Dropped, the corner follows its neighbours (a few mm off) instead of the 50 mm outlier.
+  EXPECT_NEAR((r.landmarks.at("mouth_left") - s.truth.mesh.vertices[s.truth.features.at("mouth_left")]).norm(), 0.0, 6.0);
   AdaptOptions bad;
   bad.max_feature_shift_mm = 0;
   EXPECT_THROW(adapt(base, d, bad), std::invalid_argument);
