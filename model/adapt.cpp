@@ -91,13 +91,16 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
   return out;
 }
 
-Alignment align_base(const BaseMesh& base, const StereoData& data) {
+Alignment align_base(const BaseMesh& base, const StereoData& data,
+                     const std::vector<std::string>& excluded) {
   std::vector<Eigen::Vector2d> b, o;
   double zb = 0, zo = 0;
   int nz = 0;
   for (const auto& [name, v] : base.features) {
     const auto it = data.features.find(name);
-    if (it == data.features.end()) continue;
+    if (it == data.features.end() ||
+        std::find(excluded.begin(), excluded.end(), name) != excluded.end())
+      continue;
     b.push_back(base.mesh.vertices[v].head<2>());
     o.push_back(it->second.head_mm.head<2>());
     if (it->second.has_depth) zb += base.mesh.vertices[v].z(), zo += it->second.head_mm.z(), ++nz;
@@ -126,9 +129,10 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
   options.check();
   AdaptResult r;
   r.warnings = data.warnings;
-  r.alignment = align_base(base, data);
-  const std::vector<Eigen::Vector3d> aligned = detail::apply(r.alignment, base.mesh.vertices);
-  r.targets = landmark_targets(base, aligned, data, options, &r.warnings);
+  detail::AlignedTargets at = detail::align_and_target(base, data, options, &r.warnings);
+  r.alignment = at.alignment;
+  r.targets = std::move(at.targets);
+  const std::vector<Eigen::Vector3d>& aligned = at.aligned;
   const int n_landmarks = static_cast<int>(r.targets.vertices.size());
   if (n_landmarks < 3)
     throw std::invalid_argument("cannot reconstruct: only " + std::to_string(n_landmarks) +

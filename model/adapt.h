@@ -33,12 +33,14 @@ struct AdaptOptions {
 };
 
 // Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made
-// equal; x and y scaled separately by the landmarks' spread, z scaled like x).
+// equal; x and y scaled separately by the landmarks' spread, z scaled like x). Features named
+// in `excluded` are left out (outliers, ignored features).
 struct Alignment {
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();
   Eigen::Vector3d translation = Eigen::Vector3d::Zero();
 };
-Alignment align_base(const BaseMesh& base, const StereoData& data);
+Alignment align_base(const BaseMesh& base, const StereoData& data,
+                     const std::vector<std::string>& excluded = {});
 
 // The base vertices that get 3D data (boundary of each slice inside the observed heights and
 // the observed features) and their target positions, head frame mm. `aligned` = the aligned

@@ -12,6 +12,18 @@ namespace orthoface::model::detail {
 
 std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::Vector3d>& v);
 
+struct AlignedTargets {
+  Alignment alignment;
+  std::vector<Eigen::Vector3d> aligned;  // the base vertices under `alignment`
+  LandmarkTargets targets;
+};
+
+// align_base, then landmark_targets. Features that landmark_targets drops as outliers (too far
+// from the aligned base) would still pull the alignment's centre and spread, so when there are
+// any both steps are repeated once without them. Warnings of both passes, without repeats.
+AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
+                                const AdaptOptions& options, std::vector<std::string>* warnings);
+
 std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh);
 
 // Aligned positions with the targets set and the others moved by NNWA (seed 002 eq. 3.9).

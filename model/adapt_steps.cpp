@@ -124,6 +124,46 @@ std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::
   return out;
 }
 
+namespace {
+
+// Observed, not ignored features that `targets` does not use: the outliers.
+std::vector<std::string> outlier_features(const BaseMesh& base, const StereoData& data,
+                                          const AdaptOptions& options,
+                                          const LandmarkTargets& targets) {
+  const std::set<std::string> used(targets.names.begin(), targets.names.end());
+  const std::set<std::string> ignored(options.ignored_features.begin(),
+                                      options.ignored_features.end());
+  std::vector<std::string> out;
+  for (const auto& [name, v] : base.features)
+    if (data.features.count(name) && !ignored.count(name) && !used.count(name))
+      out.push_back(name);
+  return out;
+}
+
+}  // namespace
+
+AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
+                                const AdaptOptions& options, std::vector<std::string>* warnings) {
+  AlignedTargets a;
+  std::vector<std::string> notes;
+  a.alignment = align_base(base, data, options.ignored_features);
+  a.aligned = detail::apply(a.alignment, base.mesh.vertices);
+  a.targets = landmark_targets(base, a.aligned, data, options, &notes);
+  const std::vector<std::string> outliers = outlier_features(base, data, options, a.targets);
+  if (!outliers.empty()) {
+    AdaptOptions without = options;
+    without.ignored_features.insert(without.ignored_features.end(), outliers.begin(), outliers.end());
+    a.alignment = align_base(base, data, without.ignored_features);
+    a.aligned = detail::apply(a.alignment, base.mesh.vertices);
+    std::vector<std::string> second;
+    a.targets = landmark_targets(base, a.aligned, data, without, &second);
+    for (auto& w : second)
+      if (std::find(notes.begin(), notes.end(), w) == notes.end()) notes.push_back(std::move(w));
+  }
+  if (warnings) warnings->insert(warnings->end(), notes.begin(), notes.end());
+  return a;
+}
+
 std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh) {
   std::vector<std::vector<int>> adj(mesh.vertices.size());
   for (const auto& f : mesh.triangles)

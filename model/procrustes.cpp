@@ -10,9 +10,7 @@ namespace orthoface::model {
 
 TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data, const AdaptOptions& options) {
   options.check();
-  const Alignment a = align_base(base, data);
-  const auto aligned = detail::apply(a, base.mesh.vertices);
-  const LandmarkTargets t = landmark_targets(base, aligned, data, options);
+  const LandmarkTargets t = detail::align_and_target(base, data, options, nullptr).targets;
   const int n = static_cast<int>(t.vertices.size());
   if (n < 3)
     throw std::invalid_argument("procrustes_fit: only " + std::to_string(n) +

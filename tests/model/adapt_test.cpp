@@ -117,6 +117,22 @@ TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
   EXPECT_THROW(adapt(base, d, bad), std::invalid_argument);
 }
 
+TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1.1, 0.9, 1.1}, {2, -3, 1});
+  s.observation.front.features["mouth_left"].px.y += 80;
+  s.observation.side.features["mouth_left"].px.y += 80;
+  const StereoData d = stereo_match(s.observation, s.rig);
+  StereoData without = d;
+  without.features.erase("mouth_left");
+  const Alignment a = align_base(base, d, {"mouth_left"}), b = align_base(base, without);
+  EXPECT_NEAR((a.scale - b.scale).norm(), 0.0, 1e-12);
+  EXPECT_NEAR((a.translation - b.translation).norm(), 0.0, 1e-12);
+  // Without the outlier the known transform comes back (z scaled like x).
+  EXPECT_NEAR((a.scale - Eigen::Vector3d(1.1, 0.9, 1.1)).norm(), 0.0, 1e-3);
+  EXPECT_GT((align_base(base, d).scale - a.scale).norm(), 0.01);  // the outlier pulls
+}
+
 TEST(Adapt, BadKThrows) {
   const BaseMesh base = base_mesh();
   const auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
