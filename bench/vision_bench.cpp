@@ -1,5 +1,7 @@
 // vision benchmarks, JSON on stdout:
 //   vision_bench speed [reps]          observe() on a 640x480 sim front + side pair (median ms)
+//   vision_bench stages [reps]         median ms of each vision stage on the same pair
+//   (VISION_THREADS=N sets cv::setNumThreads for speed / stages)
 //   vision_bench sim [subjects]        accuracy over sim subjects, ideal rig, 4 conditions
 //   vision_bench frmdb DIR OUT         real FRMDB pairs (Img_33 front, Img_53 side), overlays in OUT
 //   vision_bench ibug DIR              eye / nose / mouth centre error / inter-ocular distance
@@ -15,7 +17,12 @@
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "tests/vision/sim_eval.h"
+#include "vision/edges.h"
+#include "vision/front_boundary.h"
+#include "vision/front_features.h"
 #include "vision/image_prep.h"
+#include "vision/segment.h"
+#include "vision/side_profile.h"
 #include "vision/observe.h"
 #include "vision/overlay.h"
 
@@ -38,6 +45,45 @@ int speed(int reps) {
   std::sort(ms.begin(), ms.end());
   std::cout << json{{"benchmark", "observe_640x480_pair"}, {"reps", reps}, {"median_ms", ms[ms.size() / 2]},
                     {"min_ms", ms.front()}, {"max_ms", ms.back()}, {"target_ms", 8.0}}.dump(1) << "\n";
+  return 0;
+}
+
+// Median ms of `f` over `reps` runs (after one warm-up run).
+template <class F>
+double median_ms(int reps, F&& f) {
+  f();
+  std::vector<double> ms;
+  for (int i = 0; i < reps; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  std::sort(ms.begin(), ms.end());
+  return ms[ms.size() / 2];
+}
+
+// The stages of observe() one by one on the speed pair, to see where the time goes.
+int stages(int reps) {
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(0)), {});
+  const cv::Mat front = ov::to_bgr8(cap.front, "front"), side = ov::to_bgr8(cap.side, "side");
+  json t = json::object();
+  cv::Mat fprob, fmask, sprob, smask;
+  t["to_bgr8_pair"] = median_ms(reps, [&] { ov::to_bgr8(cap.front, "f"), ov::to_bgr8(cap.side, "s"); });
+  t["foreground_probability_front"] = median_ms(reps, [&] { fprob = ov::foreground_probability(front, {}); });
+  t["head_mask_front"] = median_ms(reps, [&] { fmask = ov::head_mask(fprob); });
+  t["foreground_probability_side"] = median_ms(reps, [&] { sprob = ov::foreground_probability(side, {}); });
+  t["head_mask_side"] = median_ms(reps, [&] { smask = ov::head_mask(sprob); });
+  t["edge_image_prob"] = median_ms(reps, [&] { ov::edge_image(fprob, {0.7, 0.1}); });
+  t["profile_faces_left"] = median_ms(reps, [&] { double c; ov::profile_faces_left(smask, side, &c); });
+  ov::SideProfile sp;
+  t["side_profile"] = median_ms(reps, [&] { sp = ov::side_profile(side, sprob, smask); });
+  ov::FrontBoundary fb;
+  t["front_boundary"] = median_ms(reps, [&] { fb = ov::front_boundary(fprob, fmask, -1); });
+  std::map<std::string, double> rows;
+  for (const auto& [n, f] : sp.features) rows[n] = f.px.y;
+  t["front_features"] = median_ms(reps, [&] { ov::front_features(front, fb, rows, sp.head_height_px); });
+  t["observe"] = median_ms(reps, [&] { ov::observe(cap.front, cap.side); });
+  std::cout << json{{"benchmark", "observe_stages_median_ms"}, {"reps", reps}, {"stages", t}}.dump(1) << "\n";
   return 0;
 }
 
@@ -178,9 +224,11 @@ int ibug(const std::string& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const char* t = std::getenv("VISION_THREADS")) cv::setNumThreads(std::atoi(t));
   const std::string mode = argc > 1 ? argv[1] : "speed";
   try {
     if (mode == "speed") return speed(argc > 2 ? std::stoi(argv[2]) : 50);
+    if (mode == "stages") return stages(argc > 2 ? std::stoi(argv[2]) : 30);
     if (mode == "sim") return accuracy(argc > 2 ? std::stoi(argv[2]) : 20);
     if (mode == "frmdb" && argc > 3) return frmdb(argv[2], argv[3]);
     if (mode == "ibug" && argc > 2) return ibug(argv[2]);
@@ -188,6 +236,6 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "usage: vision_bench speed [reps] | sim [subjects] | frmdb DIR OUT | ibug DIR\n";
+  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] | frmdb DIR OUT | ibug DIR\n";
   return 2;
 }

@@ -74,7 +74,34 @@ int hairline(const cv::Mat& bgr, const std::vector<cv::Point2d>& c, int start, d
   return -1;
 }
 
+// Nose tip: the most projecting point of the face band.
+int nose_tip_index(const std::vector<cv::Point2d>& c, double H) {
+  const double y0 = c.front().y;
+  return argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
+}
+
+// Under the chin the curve runs backward a long way (lips only step back a little): the first
+// index below the tip where it heads back and keeps going 0.07 H within 0.15 H; -1 if none.
+int under_chin(const std::vector<cv::Point2d>& c, int tip, double H) {
+  const int n = int(c.size());
+  const int lower = std::max(2, first_row_at_least(c, c[tip].y + 0.12 * H));
+  const int reach = std::max(4, int(0.15 * H));
+  for (int i = lower; i + 2 < n; ++i) {
+    const cv::Point2d d = c[i + 2] - c[i - 2];
+    if (!(d.x > 0 && std::abs(d.y) < 0.7 * d.x)) continue;
+    double xmax = c[i].x;
+    for (int j = i; j < std::min(n, i + reach); ++j) xmax = std::max(xmax, c[j].x);
+    if (xmax - c[i].x > 0.07 * H) return i;
+  }
+  return -1;
+}
+
 }  // namespace
+
+bool reads_as_face_profile(const std::vector<cv::Point2d>& c, double H) {
+  if (c.size() < 40 || H < 20) return false;
+  return under_chin(c, nose_tip_index(c, H), H) >= 0;
+}
 
 void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   const auto& c = sp.curve;
@@ -84,10 +111,8 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
     return;
   }
   const int n = int(c.size());
-  const double y0 = c.front().y;
   const double conf = std::clamp(sp.confidence, 0.0, 1.0);
-  // Nose tip: the most projecting point of the face band.
-  const int tip = argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
+  const int tip = nose_tip_index(c, H);
   sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
   // Nasion: deepest point behind the chord from the brow (glabella) to the tip.
   const int g0 = first_row_at_least(c, c[tip].y - 0.42 * H), g1 = first_row_at_least(c, c[tip].y - 0.22 * H);
@@ -98,17 +123,7 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   for (int i = glabella; i < tip; ++i)
     if (c[i].x > c[nasion].x) nasion = i;
   sp.features["nose_bridge"] = make(c[nasion], conf * std::min(1.0, depth / 2.0), "profile-concavity");
-  // Under the chin the curve runs backward a long way (lips only step back a little).
-  const int lower = first_row_at_least(c, c[tip].y + 0.12 * H);
-  const int reach = std::max(4, int(0.15 * H));
-  int under = -1;
-  for (int i = lower; i + 2 < n && under < 0; ++i) {
-    const cv::Point2d d = c[i + 2] - c[i - 2];
-    if (!(d.x > 0 && std::abs(d.y) < 0.7 * d.x)) continue;
-    double xmax = c[i].x;
-    for (int j = i; j < std::min(n, i + reach); ++j) xmax = std::max(xmax, c[j].x);
-    if (xmax - c[i].x > 0.07 * H) under = i;
-  }
+  const int under = under_chin(c, tip, H);
   if (under < 0) {
     sp.warnings.push_back("side view: chin not found (profile ends before the throat)");
     return;

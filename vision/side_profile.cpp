@@ -32,6 +32,11 @@ double head_height_estimate(const RowExtent& e) {
   return 1.2 * m;
 }
 
+// A contour chain at ~1 px steps (empty stays empty).
+std::vector<cv::Point2d> resample_chain(const std::vector<cv::Point2d>& chain) {
+  return chain.size() < 2 ? chain : resample(chain, 1.0);
+}
+
 // Refined dense profile: mask chain -> B-spline -> iterative fit on the probability edges.
 std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, const cv::Mat& prob,
                                       const SideProfileOptions& o, double* support) {
@@ -92,6 +97,17 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
   return (mx / mn - sx / sn) / (0.1 * depth);
 }
 
+// +1 when only the blob's left side reads as a face profile, -1 when only its right side does,
+// 0 when both or neither (the other cues decide).
+double face_profile_side(const cv::Mat& mask, const RowExtent& e, double h) {
+  const int stop = std::min(e.bottom, int(e.top + 1.45 * h));
+  cv::Mat flipped;
+  cv::flip(mask, flipped, 1);
+  const bool left = reads_as_face_profile(resample_chain(front_chain(mask, stop)), h);
+  const bool right = reads_as_face_profile(resample_chain(front_chain(flipped, stop)), h);
+  return double(left) - double(right);
+}
+
 bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence) {
   if (!bgr.empty() && (bgr.size() != mask.size() || bgr.type() != CV_8UC3))
     throw std::invalid_argument("profile_faces_left: image and mask differ in size/type");
@@ -112,8 +128,11 @@ bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confide
     if (e.left[r] >= 0) head_w = std::max(head_w, double(e.right[r] - e.left[r]));
   if (nr > 0 && neck_w / nr < head_w) neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
   const double skin = bgr.empty() ? 0.0 : skin_offset(mask, bgr, e, h);
+  // The strongest cue: only the face side of the blob reads as a profile with a chin (hair as
+  // dark as the background leaves a skin-only blob whose back edge the other cues misjudge).
+  const double shape = face_profile_side(mask, e, h);
   const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0) +
-                      3.0 * std::clamp(skin, -2.0, 2.0);
+                      3.0 * std::clamp(skin, -2.0, 2.0) + 12.0 * shape;
   if (confidence) *confidence = std::clamp(std::abs(vote) / 2.0, 0.0, 1.0);
   return vote >= 0;
 }

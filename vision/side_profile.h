@@ -40,6 +40,11 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
 // forehead top = skin-to-hair colour change along the curve. Missing ones add a warning.
 void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);
 
+// True when `curve` (a left-facing front profile, top to bottom, ~1 px steps) has a nose tip in
+// the face band of a head `head_height_px` tall and, below it, the long backward run under the
+// chin: the shape of a face. The back of a head or a hair / skin border does not have both.
+bool reads_as_face_profile(const std::vector<cv::Point2d>& curve, double head_height_px);
+
 // True when the profile in `mask` (head blob of a side image) looks toward the image left;
 // `confidence` (optional) gets 0..1 from how much one side's nose bump dominates.
 bool profile_faces_left(const cv::Mat& mask, double* confidence = nullptr);
