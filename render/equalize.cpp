@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include <opencv2/imgproc.hpp>
 
@@ -67,7 +69,7 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
                          const std::array<cv::Mat, 2>& photos) {
   const capture::CameraModel* cams[2] = {&rig.front, &rig.side};
   std::array<std::vector<cv::Vec3f>, 2> overlap;
-  std::vector<Eigen::Vector2d> front_seen;
+  std::vector<cv::Vec3b> front_seen;  // raw front colours of the surface it sees well
   for (size_t v = 0; v < vertices.size(); ++v) {
     const Eigen::Vector3d& p = vertices[v];
     double cosine[2];
@@ -76,7 +78,11 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
       cosine[i] = facing(*cams[i], p, normals[v]);
       sees[i] = source_sees(*cams[i], depth[i], p, cosine[i], 1.0);
     }
-    if (sees[0] && cosine[0] > 0.5) front_seen.push_back(capture::project(*cams[0], p));
+    if (sees[0] && cosine[0] > 0.5) {
+      const cv::Vec3d c = bilinear(photos[0], capture::project(*cams[0], p));
+      front_seen.push_back(cv::Vec3b(cv::saturate_cast<uchar>(c[0]), cv::saturate_cast<uchar>(c[1]),
+                                     cv::saturate_cast<uchar>(c[2])));
+    }
     if (!(sees[0] && sees[1] && cosine[0] > 0.35 && cosine[1] > 0.35)) continue;
     for (int i = 0; i < 2; ++i)
       overlap[i].push_back(cv::Vec3f(bilinear(photos[i], capture::project(*cams[i], p)) / 255.0));
@@ -85,22 +91,20 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
   m.samples = int(overlap[0].size());
   if (m.samples > 0)
     for (int i = 0; i < 2; ++i) lab_stats(overlap[i], m.mean[i], m.stddev[i]);
-  if (!front_seen.empty()) {
-    const cv::Mat front = equalized(photos[0], m, 0);
-    cv::Vec3d sum(0, 0, 0);
-    for (const auto& uv : front_seen) sum += bilinear(front, uv);
-    sum /= double(front_seen.size());
-    m.fill = cv::Vec3b(cv::saturate_cast<uchar>(sum[0]), cv::saturate_cast<uchar>(sum[1]),
-                       cv::saturate_cast<uchar>(sum[2]));
+  if (!front_seen.empty()) {  // equalise only the sampled colours, not the whole photo
+    const cv::Scalar mean = cv::mean(equalized(cv::Mat(front_seen), m, 0));
+    m.fill = cv::Vec3b(cv::saturate_cast<uchar>(mean[0]), cv::saturate_cast<uchar>(mean[1]),
+                       cv::saturate_cast<uchar>(mean[2]));
   }
   return m;
 }
 
-cv::Mat equalized(const cv::Mat& photo, const ColourMatch& m, int source) {
-  if (m.samples < kMinSamples) return photo.clone();
+namespace {
+
+// In place on CV_32FC3 BGR (0..1): Lab of each pixel mapped to the average statistics.
+void map_lab(cv::Mat& bgr01, const ColourMatch& m, int source) {
   cv::Mat lab;
-  photo.convertTo(lab, CV_32F, 1.0 / 255);
-  cv::cvtColor(lab, lab, cv::COLOR_BGR2Lab);
+  cv::cvtColor(bgr01, lab, cv::COLOR_BGR2Lab);
   std::vector<cv::Mat> ch;
   cv::split(lab, ch);
   for (int k = 0; k < 3; ++k) {
@@ -111,10 +115,32 @@ cv::Mat equalized(const cv::Mat& photo, const ColourMatch& m, int source) {
     ch[k].convertTo(ch[k], CV_32F, gain, target_mean - gain * m.mean[source][k]);
   }
   cv::merge(ch, lab);
-  cv::cvtColor(lab, lab, cv::COLOR_Lab2BGR);
+  cv::cvtColor(lab, bgr01, cv::COLOR_Lab2BGR);
+}
+
+}  // namespace
+
+cv::Mat equalized(const cv::Mat& photo, const ColourMatch& m, int source) {
+  if (m.samples < kMinSamples) return photo.clone();
+  cv::Mat bgr01;
+  photo.convertTo(bgr01, CV_32F, 1.0 / 255);
+  map_lab(bgr01, m, source);
   cv::Mat out;
-  lab.convertTo(out, CV_8U, 255.0);
+  bgr01.convertTo(out, CV_8U, 255.0);
   return out;
+}
+
+cv::Mat equalize_grid(const ColourMatch& m, int source, int n) {
+  if (n < 2 || n > 256)
+    throw std::invalid_argument("equalize grid: size must be in 2..256, got " + std::to_string(n));
+  cv::Mat grid(1, n * n * n, CV_32FC3);
+  auto* out = grid.ptr<cv::Vec3f>();
+  const float step = 1.0f / float(n - 1);
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) *out++ = cv::Vec3f(b * step, g * step, r * step);
+  if (m.samples >= kMinSamples) map_lab(grid, m, source);
+  return grid;
 }
 
 }  // namespace orthoface::render::detail

@@ -35,9 +35,15 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
                          const capture::RigCalibration& rig, const std::array<cv::Mat, 2>& depth,
                          const std::array<cv::Mat, 2>& photos);
 
-// `photo` of `source` (0 front, 1 side) mapped to the average Lab statistics of `match`;
-// a copy of the photo when match.samples < kMinSamples.
+// `photo` (8-bit BGR) of `source` (0 front, 1 side) mapped to the average Lab statistics of
+// `match`; a copy of the photo when match.samples < kMinSamples.
 constexpr int kMinSamples = 20;
 cv::Mat equalized(const cv::Mat& photo, const ColourMatch& match, int source);
+
+// The same mapping sampled on an n x n x n grid of colours, for a 3D lookup texture: a 1 x n^3
+// CV_32FC3 of BGR (0..1) whose entry (b * n + g) * n + r is the mapping of the colour
+// (b, g, r) / (n - 1); the identity when match.samples < kMinSamples. Throws
+// std::invalid_argument when n is outside 2..256.
+cv::Mat equalize_grid(const ColourMatch& match, int source, int n);
 
 }  // namespace orthoface::render::detail

@@ -1,5 +1,6 @@
 #include "render/new_view.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -30,13 +31,100 @@ cv::Mat as_bgr(const cv::Mat& photo, const capture::CameraModel& cam, const std:
 
 struct SourceGl {
   GLuint zmap = 0, photo = 0, photo_eq = 0;  // zmap: linear depth texture, compare mode
+  GLuint lut = 0, eq_fbo = 0;                 // equalisation: 3D colour lookup, FBO on photo_eq
+  cv::Size photo_size, photo_eq_size;        // allocated sizes of photo, photo_eq
   std::array<double, 2> zrange{0, 0};        // near, far of zmap
   cv::Mat depth;                             // z_cam (mm), CV_32F, +inf where empty
+  cv::Mat raw;                               // the photo as set (buffer reused)
+  cv::Rect footprint;                        // photo pixels the mesh can take colour from
 };
 
-std::string view_fragment(bool per_pixel) {
-  return std::string("#version 330 core\n") +
-         (per_pixel ? "#define PER_PIXEL_VISIBILITY 1\n" : "") + shaders::kViewFragment;
+constexpr int kLutSize = 33;  // equalisation lookup grid per axis (trilinear in between)
+
+// Uploads 8-bit BGR `bgr` into the RGBA8 texture `tex` with linear filtering; image row 0 is
+// t = 0. Allocates only on the first call or a size change (else glTexSubImage2D). Images larger
+// than GL_MAX_TEXTURE_SIZE are downscaled (the shader samples in normalised coordinates).
+void upload_bgr(const cv::Mat& bgr, GLuint& tex, cv::Size& allocated) {
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  cv::Mat image = bgr;
+  if (image.cols > max_size || image.rows > max_size) {
+    const double s = double(max_size) / std::max(image.cols, image.rows);
+    cv::resize(bgr, image, cv::Size(), s, s, cv::INTER_AREA);
+  }
+  if (!image.isContinuous()) image = image.clone();
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (!tex) glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  if (allocated == image.size()) {
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.cols, image.rows, GL_BGR, GL_UNSIGNED_BYTE,
+                    image.data);
+    return;
+  }
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.cols, image.rows, 0, GL_BGR, GL_UNSIGNED_BYTE,
+               image.data);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  allocated = image.size();
+}
+
+// The synthesis fragment shader specialised for the rig's source cameras and the options.
+std::string view_fragment(const capture::RigCalibration& rig, bool per_pixel, bool weighted) {
+  std::string defines = "#version 330 core\n";
+  if (per_pixel) defines += "#define PER_PIXEL_VISIBILITY 1\n";
+  if (weighted) defines += "#define WEIGHTED 1\n";
+  const capture::CameraModel* cams[2] = {&rig.front, &rig.side};
+  for (int i = 0; i < 2; ++i) {
+    const bool perspective = cams[i]->projection == capture::Projection::Perspective;
+    bool distorted = false;
+    if (perspective)
+      for (size_t k = 0; k < cams[i]->distortion.size() && k < 5; ++k)
+        distorted = distorted || cams[i]->distortion[k] != 0;
+    defines += "#define PERSPECTIVE" + std::to_string(i) + (perspective ? " 1\n" : " 0\n");
+    defines += "#define DISTORTED" + std::to_string(i) + (distorted ? " 1\n" : " 0\n");
+  }
+  return defines + shaders::kViewFragment;
+}
+
+// An RGBA8 texture of `size` with linear filtering as colour attachment 0 of `fbo`.
+void ensure_target(GLuint& tex, cv::Size& allocated, GLuint& fbo, cv::Size size) {
+  if (tex && allocated == size) return;
+  if (!tex) glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size.width, size.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
+               nullptr);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  if (!fbo) glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+    throw std::runtime_error("new view: equalisation framebuffer is incomplete");
+  allocated = size;
+}
+
+// The equalisation grid (detail::equalize_grid) as a 2D RGBA8 texture of kLutSize slices side
+// by side (x = b * n + r, y = g): the shader interpolates bilinearly within two slices and
+// linearly between them (llvmpipe's 2D unorm8 filtering is far cheaper than its 3D path).
+void upload_lut(const cv::Mat& grid, GLuint& tex) {
+  const int n = kLutSize;
+  cv::Mat atlas(n, n * n, CV_32FC3);
+  const auto* entry = grid.ptr<cv::Vec3f>();
+  for (int b = 0; b < n; ++b)
+    for (int g = 0; g < n; ++g)
+      for (int r = 0; r < n; ++r) atlas.at<cv::Vec3f>(g, b * n + r) = entry[(b * n + g) * n + r];
+  if (!tex) glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, n * n, n, 0, GL_BGR, GL_FLOAT, atlas.data);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
 }  // namespace
@@ -53,41 +141,54 @@ void SynthesisOptions::check() const {
 
 struct ViewSynthesizer::Impl {
   gl::Context context;
-  GLuint view_prog[2] = {0, 0};  // [0] per-vertex, [1] per-pixel visibility
-  GLuint depth_prog = 0;
+  GLuint view_prog[4] = {0, 0, 0, 0};  // by 2 * per-pixel visibility + weighted; on first use
+  GLuint depth_prog = 0, equalize_prog = 0;
+  GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
   GLuint seen_vbo = 0;  // per-vertex visibility in each source (attribute 4)
   std::vector<Eigen::Vector3d> vertices, normals;
   capture::RigCalibration rig;
   SourceGl src[2];
-  std::array<cv::Mat, 2> photos;
+  bool has_photos = false;
   ColourMatch match;
   gl::Framebuffer fb;
 
   Impl() {
-    for (int v = 0; v < 2; ++v)
-      view_prog[v] = gl::program(shaders::kViewVertex, view_fragment(v == 1).c_str(), "new_view");
     depth_prog = gl::program(shaders::kSourceDepthVertex, shaders::kSourceDepthFragment,
                              "source_depth");
+    equalize_prog = gl::program(shaders::kEqualizeVertex, shaders::kEqualizeFragment, "equalize");
+    glUseProgram(equalize_prog);
+    glUniform1i(glGetUniformLocation(equalize_prog, "photo"), 0);
+    glUniform1i(glGetUniformLocation(equalize_prog, "lut"), 1);
+    glUniform1f(glGetUniformLocation(equalize_prog, "lut_size"), float(kLutSize));
+    glGenVertexArrays(1, &empty_vao);
   }
   ~Impl() {
     context.make_current();
     for (auto& s : src) {
-      const GLuint tex[3] = {s.zmap, s.photo, s.photo_eq};
-      glDeleteTextures(3, tex);
+      const GLuint tex[4] = {s.zmap, s.photo, s.photo_eq, s.lut};
+      glDeleteTextures(4, tex);
+      if (s.eq_fbo) glDeleteFramebuffers(1, &s.eq_fbo);
     }
+    glDeleteVertexArrays(1, &empty_vao);
     if (seen_vbo) glDeleteBuffers(1, &seen_vbo);
     mesh.release();
     fb.release();
-    for (GLuint p : view_prog) glDeleteProgram(p);
+    for (GLuint p : view_prog)
+      if (p) glDeleteProgram(p);
     glDeleteProgram(depth_prog);
+    glDeleteProgram(equalize_prog);
   }
 
   const capture::CameraModel& cam(int i) const { return i == 0 ? rig.front : rig.side; }
   void render_source_depth(int i);
+  void find_footprints();
   void upload_seen();
-  void upload_photos();
+  void upload_photos(const cv::Mat& front, const cv::Mat& side);
+  void match_colours();
+  void equalize_photos();
   void source_uniforms(GLuint prog);
+  GLuint view_program(const SynthesisOptions& o);
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -99,8 +200,9 @@ void ViewSynthesizer::Impl::render_source_depth(int i) {
   glBindTexture(GL_TEXTURE_2D, s.zmap);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
                GL_FLOAT, nullptr);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+const GLint LINFILT = getenv("NEAREST") ? GL_NEAREST : GL_LINEAR;
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, LINFILT);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, LINFILT);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
@@ -140,6 +242,30 @@ void ViewSynthesizer::Impl::render_source_depth(int i) {
   gl::window_depth_to_zcam(s.depth, s.zrange[0], s.zrange[1], false);  // linear by construction
 }
 
+// The photo pixels the mesh projects to (with distortion), plus a margin for bilinear
+// sampling: the equalisation pass only needs these.
+void ViewSynthesizer::Impl::find_footprints() {
+  constexpr int kMargin = 3;
+  for (int i = 0; i < 2; ++i) {
+    const capture::CameraModel& c = cam(i);
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (const Eigen::Vector3d& v : vertices) {
+      if (c.projection == capture::Projection::Perspective && !(capture::depth(c, v) > 0)) continue;
+      const Eigen::Vector2d uv = capture::project(c, v);
+      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], uv[k]), hi[k] = std::max(hi[k], uv[k]);
+    }
+    const cv::Rect image(0, 0, c.width, c.height);
+    if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) {
+      src[i].footprint = cv::Rect();
+      continue;
+    }
+    auto clamped = [](double x, int limit) { return int(std::clamp(x, -1.0, double(limit) + 1)); };
+    const cv::Point a(clamped(std::floor(lo[0]), c.width) - kMargin, clamped(std::floor(lo[1]), c.height) - kMargin);
+    const cv::Point b(clamped(std::ceil(hi[0]), c.width) + kMargin, clamped(std::ceil(hi[1]), c.height) + kMargin);
+    src[i].footprint = cv::Rect(a, b) & image;
+  }
+}
+
 // Per-vertex visibility in each source (the fast path's occlusion test), attribute 4.
 void ViewSynthesizer::Impl::upload_seen() {
   std::vector<float> seen(vertices.size() * 2);
@@ -158,13 +284,61 @@ void ViewSynthesizer::Impl::upload_seen() {
   glBindVertexArray(0);
 }
 
-// Equalisation statistics from the current mesh and photos, then raw + equalised textures.
-void ViewSynthesizer::Impl::upload_photos() {
-  match = detail::colour_match(vertices, normals, rig, {src[0].depth, src[1].depth}, photos);
-  for (int i = 0; i < 2; ++i) {
-    src[i].photo = gl::upload_texture(photos[i], src[i].photo);
-    src[i].photo_eq = gl::upload_texture(detail::equalized(photos[i], match, i), src[i].photo_eq);
+// Raw photo textures updated in place; a CPU copy is kept for the colour match.
+void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& side) {
+  front.copyTo(src[0].raw);
+  side.copyTo(src[1].raw);
+  for (SourceGl& s : src) upload_bgr(s.raw, s.photo, s.photo_size);
+  has_photos = true;
+}
+
+// Equalisation statistics from the current mesh, source depth maps and photos, as one lookup
+// texture per source.
+void ViewSynthesizer::Impl::match_colours() {
+  match = detail::colour_match(vertices, normals, rig, {src[0].depth, src[1].depth},
+                               {src[0].raw, src[1].raw});
+  for (int i = 0; i < 2; ++i) upload_lut(detail::equalize_grid(match, i, kLutSize), src[i].lut);
+}
+
+// photo_eq = lookup(photo), one full-frame pass per source on the GL side (no CPU colour work).
+void ViewSynthesizer::Impl::equalize_photos() {
+  glUseProgram(equalize_prog);
+  glEnable(GL_SCISSOR_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glBindVertexArray(empty_vao);
+  for (SourceGl& s : src) {
+    ensure_target(s.photo_eq, s.photo_eq_size, s.eq_fbo, s.photo_size);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.eq_fbo);
+    glDrawBuffer(GL_COLOR_ATTACHMENT0);
+    glViewport(0, 0, s.photo_size.width, s.photo_size.height);
+    const double to_texture = double(s.photo_size.width) / s.raw.cols;  // 1 unless downscaled
+    const cv::Rect f(cv::Point(int(std::floor(s.footprint.x * to_texture)),
+                               int(std::floor(s.footprint.y * to_texture))),
+                     cv::Point(int(std::ceil(s.footprint.br().x * to_texture)),
+                               int(std::ceil(s.footprint.br().y * to_texture))));
+    glScissor(f.x, f.y, f.width, f.height);  // GL window row = image row (texture t = row)
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, s.photo);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, s.lut);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
   }
+  glDisable(GL_SCISSOR_TEST);
+  glActiveTexture(GL_TEXTURE0);
+  glBindVertexArray(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+GLuint ViewSynthesizer::Impl::view_program(const SynthesisOptions& o) {
+  const bool weighted = o.blend == Blend::Weighted;
+  GLuint& p = view_prog[2 * int(o.per_pixel_visibility) + int(weighted)];
+  if (!p) {
+    p = gl::program(shaders::kViewVertex,
+                    view_fragment(rig, o.per_pixel_visibility, weighted).c_str(), "new_view");
+    source_uniforms(p);
+  }
+  return p;
 }
 
 // Uniforms that depend only on the rig and the source depth maps.
@@ -216,17 +390,28 @@ void ViewSynthesizer::set_mesh(const model::TriMesh& mesh) {
   impl_->mesh = gl::upload_mesh(mesh, false);
   impl_->vertices = mesh.vertices;
   impl_->normals = gl::vertex_normals(mesh);
+  impl_->find_footprints();
   for (int i = 0; i < 2; ++i) impl_->render_source_depth(i);
   impl_->upload_seen();
-  for (GLuint p : impl_->view_prog) impl_->source_uniforms(p);
-  if (!impl_->photos[0].empty()) impl_->upload_photos();
+  for (GLuint p : impl_->view_prog)
+    if (p) impl_->source_uniforms(p);
+  if (impl_->has_photos) update_colour_match();  // the surface both cameras see has changed
 }
 
-void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side) {
-  impl_->photos = {as_bgr(front, impl_->rig.front, "front"),
-                   as_bgr(side, impl_->rig.side, "side")};
+void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, ColourUpdate colour) {
+  const cv::Mat f = as_bgr(front, impl_->rig.front, "front");
+  const cv::Mat s = as_bgr(side, impl_->rig.side, "side");
+  const bool first = !impl_->has_photos;
   impl_->context.make_current();
-  impl_->upload_photos();
+  impl_->upload_photos(f, s);
+  if (first || colour == ColourUpdate::Recompute) impl_->match_colours();
+  impl_->equalize_photos();
+}
+
+void ViewSynthesizer::update_colour_match() {
+  impl_->context.make_current();
+  impl_->match_colours();
+  impl_->equalize_photos();
 }
 
 const ColourMatch& ViewSynthesizer::colour_match() const { return impl_->match; }
@@ -258,12 +443,13 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   const auto nf = gl::near_far(camera, m.mesh.lo, m.mesh.hi);
   if (nf[1] > nf[0]) {
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
-    const GLuint p = m.view_prog[o.per_pixel_visibility ? 1 : 0];
+    const GLuint p = m.view_program(o);
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
-    glUniform1i(glGetUniformLocation(p, "blend"), o.blend == Blend::Pick ? 0 : 1);
-    // cos0 - cos1 changes by sqrt(2) per radian of normal rotation near the 45-degree switch.
-    glUniform1f(glGetUniformLocation(p, "feather"), float(std::sqrt(2.0) * o.feather_deg * M_PI / 180));
+    // cos0 - cos1 changes by sqrt(2) per radian of normal rotation near the 45-degree switch;
+    // a tiny band stands for feather 0 (a hard switch) as smoothstep needs edge0 < edge1.
+    const double feather = std::sqrt(2.0) * o.feather_deg * M_PI / 180;
+    glUniform1f(glGetUniformLocation(p, "feather"), float(std::max(feather, 1e-6)));
     glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
     glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
     glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,

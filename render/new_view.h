@@ -35,12 +35,17 @@ struct SynthesisResult {
 };
 
 // Colour equalisation (Lab mean / std of each photo over the surface both cameras see well,
-// mapped to their average). Computed when photos are set.
+// mapped to their average). Computed with the first photos, on a new mesh and when asked
+// (ColourUpdate::Recompute, update_colour_match); later photos reuse it.
 struct ColourMatch {
   std::array<cv::Vec3d, 2> mean{}, stddev{};  // Lab (L 0..100) of the front, side samples
   int samples = 0;                            // surface points used; < 20 means no change
   cv::Vec3b fill{128, 128, 128};              // BGR used where no photo sees the surface
 };
+
+// Whether set_photos recomputes the colour match from the new photos (about 20 ms of CPU per
+// call) or maps them with the one already computed (live frames: lighting changes slowly).
+enum class ColourUpdate { Keep, Recompute };
 
 // New views by texture inheritance (seed 004 §6). Owns a render context; the mesh (head frame,
 // mm) and the two photos are uploaded once, each source camera's depth map is rendered once, so
@@ -56,8 +61,13 @@ class ViewSynthesizer {
   ViewSynthesizer(const ViewSynthesizer&) = delete;
   ViewSynthesizer& operator=(const ViewSynthesizer&) = delete;
 
-  // New photos (e.g. live frames) for the same rig; the mesh stays uploaded.
-  void set_photos(const cv::Mat& front, const cv::Mat& side);
+  // New photos (e.g. live frames) for the same rig; the mesh stays uploaded and the photo
+  // textures are updated in place. Keep reuses the colour match of earlier photos (the first
+  // photos always compute one).
+  void set_photos(const cv::Mat& front, const cv::Mat& side,
+                  ColourUpdate colour = ColourUpdate::Keep);
+  // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
+  void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).
   void set_mesh(const model::TriMesh& mesh);
 

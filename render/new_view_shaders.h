@@ -54,7 +54,9 @@ void main() {
   v_seen = seen;
 })";
 
-// PER_PIXEL_VISIBILITY is defined (or not) in front of this source.
+// Specialised by defines in front of this source (llvmpipe evaluates both sides of a branch,
+// so choices fixed per rig or per option are made at compile time): PER_PIXEL_VISIBILITY,
+// WEIGHTED (else pick), PERSPECTIVE0 / 1 and DISTORTED0 / 1 (0 or 1, per source camera).
 inline const char* kViewFragment = R"(
 in vec3 v_q0;
 in vec3 v_q1;
@@ -70,16 +72,14 @@ uniform sampler2D photo1;
 uniform sampler2DShadow zmap0;
 uniform sampler2DShadow zmap1;
 uniform vec2 zrange[2];  // near far of each source depth map
-uniform int persp[2];
 uniform float tol_mm;
-uniform int blend;
 uniform float feather;
 uniform float power;
 uniform vec3 fill;
 layout(location = 0) out vec4 color;
 layout(location = 1) out vec4 weights;
 
-vec2 distort(int i, vec2 xy) {  // OpenCV model, as capture::project (zero for orthographic)
+vec2 distort(int i, vec2 xy) {  // OpenCV model, as capture::project
   float r2 = dot(xy, xy);
   float radial = 1.0 + r2 * (dist[i].x + r2 * (dist[i].y + r2 * k3[i]));
   return xy * radial + vec2(2.0 * dist[i].z * xy.x * xy.y + dist[i].w * (r2 + 2.0 * xy.x * xy.x),
@@ -91,13 +91,14 @@ float inside(vec2 uv, vec2 s) {
 }
 
 // Share of source i's view of this point: facing x inside the frame x not occluded.
-float availability(int i, vec2 xy, vec2 uv, float z, float cosine, sampler2DShadow zmap,
-                   float vertex_seen) {
+// `perspective` is a literal at each call, so the unused side folds away.
+float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cosine,
+                   sampler2DShadow zmap, float vertex_seen) {
   float a = smoothstep(0.0, 0.1, cosine) * inside(uv, size[i]);
-  if (persp[i] == 1) a *= step(0.0, z);
+  if (perspective) a *= step(0.0, z);
 #ifdef PER_PIXEL_VISIBILITY
   vec2 und = intr[i].zw + intr[i].xy * xy;
-  float px_mm = (persp[i] == 1 ? z : 1.0) / intr[i].x;
+  float px_mm = (perspective ? z : 1.0) / intr[i].x;
   float tol = tol_mm + 1.5 * px_mm / max(cosine, 0.2);
   float ref = (z - tol - zrange[i].x) / (zrange[i].y - zrange[i].x);
   a *= texture(zmap, vec3(und / size[i], ref));  // 2x2 PCF: soft over one source pixel
@@ -108,25 +109,66 @@ float availability(int i, vec2 xy, vec2 uv, float z, float cosine, sampler2DShad
 }
 
 void main() {
-  vec2 xy0 = v_q0.xy / v_q0.z, xy1 = v_q1.xy / v_q1.z;
+#if PERSPECTIVE0
+  vec2 xy0 = v_q0.xy / v_q0.z;
+#else
+  vec2 xy0 = v_q0.xy;
+#endif
+#if PERSPECTIVE1
+  vec2 xy1 = v_q1.xy / v_q1.z;
+#else
+  vec2 xy1 = v_q1.xy;
+#endif
+#if DISTORTED0
   vec2 uv0 = intr[0].zw + intr[0].xy * distort(0, xy0);
+#else
+  vec2 uv0 = intr[0].zw + intr[0].xy * xy0;
+#endif
+#if DISTORTED1
   vec2 uv1 = intr[1].zw + intr[1].xy * distort(1, xy1);
-  float a0 = availability(0, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
-  float a1 = availability(1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
-  float pf;  // share of the front photo where both see the point (seed 004 §6)
-  if (blend == 0) {
-    pf = feather > 0.0 ? smoothstep(-feather, feather, v_cos.x - v_cos.y)
-                       : step(0.0, v_cos.x - v_cos.y);
-  } else {
-    float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
-    pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
-  }
+#else
+  vec2 uv1 = intr[1].zw + intr[1].xy * xy1;
+#endif
+  float a0 = availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
+  float a1 = availability(1, PERSPECTIVE1 == 1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
+  // Share of the front photo where both see the point (seed 004 §6).
+#ifdef WEIGHTED
+  float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
+  float pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
+#else
+  float pf = smoothstep(-feather, feather, v_cos.x - v_cos.y);  // feather > 0 (see render())
+#endif
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);
   float unseen = (1.0 - a0) * (1.0 - a1);
   vec3 c0 = texture(photo0, uv0 / size[0]).rgb, c1 = texture(photo1, uv1 / size[1]).rgb;
   color = vec4(w0 * c0 + w1 * c1 + unseen * fill, 1.0);
   weights = vec4(w0, w1, unseen, 1.0);
+})";
+
+// Colour equalisation of a source photo (render/equalize.h): one triangle covering the target,
+// each target pixel = the lookup of the same photo pixel, trilinear between grid nodes; the
+// grid is a 2D atlas of n slices of constant blue (x = b * n + r, y = g).
+inline const char* kEqualizeVertex = R"(#version 330 core
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(2.0 * p - 1.0, 0.0, 1.0);
+})";
+
+inline const char* kEqualizeFragment = R"(#version 330 core
+uniform sampler2D photo;
+uniform sampler2D lut;
+uniform float lut_size;
+out vec4 color;
+void main() {
+  vec3 c = texelFetch(photo, ivec2(gl_FragCoord.xy), 0).rgb;
+  float n = lut_size, blue = c.b * (n - 1.0);
+  float b0 = min(floor(blue), n - 2.0);
+  vec2 rg = c.rg * (n - 1.0) + 0.5;  // texel position inside a slice
+  vec2 to_uv = 1.0 / vec2(n * n, n);
+  vec3 s0 = texture(lut, (vec2(b0 * n, 0.0) + rg) * to_uv).rgb;
+  vec3 s1 = texture(lut, (vec2((b0 + 1.0) * n, 0.0) + rg) * to_uv).rgb;
+  color = vec4(mix(s0, s1, blue - b0), 1.0);
 })";
 
 }  // namespace orthoface::render::shaders
