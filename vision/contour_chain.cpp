@@ -110,7 +110,7 @@ std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& p, double step
   double carry = 0;
   for (size_t i = 1; i < p.size(); ++i) {
     const cv::Point2d d = p[i] - p[i - 1];
-    const double len = std::hypot(d.x, d.y);
+    const double len = std::sqrt(d.x * d.x + d.y * d.y);
     double s = step - carry;
     while (s <= len) {
       out.push_back(p[i - 1] + d * (s / len));

@@ -87,14 +87,14 @@ cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, dou
 
 }  // namespace
 
-FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W) {
+FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W, const cv::Rect& box) {
   FilterContext c;
   c.bgr = bgr;
-  // Only the face box (the filters' windows stay inside it) is converted; the rest of the
+  // Only the box (the filters' windows stay inside it) is converted; the rest of the
   // full-size grey / Lab images is left unset. A whole-image conversion dominated the time.
   c.grey.create(bgr.size(), CV_8U);
   c.lab.create(bgr.size(), CV_8UC3);
-  const cv::Rect face = clip(bgr, at.x - 0.8 * W, at.y - 1.2 * W, at.x + 0.8 * W, at.y + 1.0 * W);
+  const cv::Rect face = box & cv::Rect(0, 0, bgr.cols, bgr.rows);
   c.roi = face;
   if (face.area() > 0) {
     cv::Mat g = c.grey(face), l = c.lab(face);
@@ -103,7 +103,7 @@ FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W) 
   }
   const double h = std::max(3.0, 0.05 * W);
   const cv::Rect roi = clip(bgr, at.x - 2.5 * h, at.y - h, at.x - 1.0 * h, at.y + h) |
-                       clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h);
+                       clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h) & face;
   if (roi.area() > 0) {
     const cv::Scalar m = cv::mean(c.lab(roi));
     c.skin = cv::Vec3f(float(m[0]), float(m[1]), float(m[2]));

@@ -12,9 +12,10 @@ struct FilterContext {
   cv::Rect roi;             // face box around the skin point; filter windows are clipped to it
   cv::Vec3f skin{0, 0, 0};  // Lab of the cheek skin
 };
-// Grey and Lab images (inside a face box of about 1.6 W x 2.2 W around `skin_at`) plus the
-// skin colour around `skin_at` (a patch of size ~0.1 W).
-FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d skin_at, double W);
+// Grey and Lab images inside `box` (clipped to the image; the filters' windows) plus the skin
+// colour around `skin_at` (a patch of size ~0.1 W, inside the box).
+FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d skin_at, double W,
+                                  const cv::Rect& box);
 
 struct EyeFound {
   bool ok = false;

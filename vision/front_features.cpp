@@ -104,7 +104,12 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
   const double r_fh = r_nasion - 0.15 * H;
   const double x0 = (boundary_x(fb.left, r_fh) + boundary_x(fb.right, r_fh)) / 2;
   const double W = boundary_x(fb.right, r_fh) - boundary_x(fb.left, r_fh);
-  const FilterContext ctx = make_filter_context(bgr, cv::Point2d(x0, r_tip + 0.06 * H), W);
+  // The filters' windows: eyes and brows (x0 +- 0.62 W, from 0.14 H above the nasion row) down
+  // to the mouth (0.04 H under the lower lip row) and the cheek skin beside the nose.
+  const double box_top = std::min(r_nasion, r_lu) - 0.2 * H, box_bottom = std::max(r_ll, r_sub) + 0.1 * H;
+  const cv::Rect box(cv::Point(int(x0 - 0.7 * W), int(box_top)),
+                     cv::Point(int(x0 + 0.7 * W) + 2, int(box_bottom) + 2));
+  const FilterContext ctx = make_filter_context(bgr, cv::Point2d(x0, r_tip + 0.06 * H), W, box);
   // Eyes: image-left eye is the subject's right eye.
   const EyeFound er = find_eye(ctx, x0, r_nasion, W, H, true);
   const EyeFound el = find_eye(ctx, x0, r_nasion, W, H, false);

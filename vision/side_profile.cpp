@@ -71,7 +71,11 @@ bool profile_faces_left(const cv::Mat& mask, double* confidence) {
 double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, double h) {
   const int r0 = std::max(0, e.top), r1 = std::min(e.bottom, int(e.top + 0.8 * h));
   if (r1 <= r0) return 0;
-  const cv::Rect roi(0, r0, mask.cols, r1 - r0 + 1);
+  int c0 = mask.cols, c1 = -1;  // columns the blob spans over these rows
+  for (int r = r0; r <= r1; ++r)
+    if (e.left[r] >= 0) c0 = std::min(c0, e.left[r]), c1 = std::max(c1, e.right[r]);
+  if (c1 < c0) return 0;
+  const cv::Rect roi(c0, r0, c1 - c0 + 1, r1 - r0 + 1);
   const cv::Mat skin = skin_probability(bgr(roi));
   cv::Mat g;
   cv::cvtColor(bgr(roi), g, cv::COLOR_BGR2GRAY);
@@ -80,7 +84,7 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
   for (int r = 0; r < roi.height; ++r) {
     const uchar* m = mask.ptr<uchar>(r0 + r);
     for (int c = std::max(0, e.left[r0 + r]); e.left[r0 + r] >= 0 && c <= e.right[r0 + r]; ++c)
-      if (m[c]) mx += c, ++mn, ++hist[g.at<uchar>(r, c)];
+      if (m[c]) mx += c, ++mn, ++hist[g.at<uchar>(r, c - c0)];
     if (e.left[r0 + r] >= 0) depth = std::max(depth, double(e.right[r0 + r] - e.left[r0 + r]));
   }
   int med = 0;
@@ -91,7 +95,7 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
     const float* s = skin.ptr<float>(r);
     const uchar* gr = g.ptr<uchar>(r);
     for (int c = std::max(0, e.left[r0 + r]); e.left[r0 + r] >= 0 && c <= e.right[r0 + r]; ++c)
-      if (m[c] && s[c] > 0.5f && gr[c] > med + 10) sx += c, ++sn;
+      if (m[c] && s[c - c0] > 0.5f && gr[c - c0] > med + 10) sx += c, ++sn;
   }
   if (sn < 0.05 * mn || depth < 10) return 0;
   return (mx / mn - sx / sn) / (0.1 * depth);
