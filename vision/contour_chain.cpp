@@ -30,8 +30,11 @@ RowExtent row_extent(const cv::Mat& mask) {
 }
 
 std::vector<cv::Point2d> front_chain(const cv::Mat& mask, int stop_row) {
+  const cv::Rect box = cv::boundingRect(mask);  // contours of the blob's box only
+  if (box.empty()) return {};
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  cv::findContours(mask(box).clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
+                   box.tl());
   if (contours.empty()) return {};
   const auto& c = *std::max_element(contours.begin(), contours.end(),
                                     [](const auto& a, const auto& b) { return a.size() < b.size(); });

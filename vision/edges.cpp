@@ -18,8 +18,9 @@ void EdgeOptions::check() const {
 
 namespace {
 
-// 99th percentile of a non-negative CV_32F image, from a 256-bin histogram up to its max.
-double high_percentile(const cv::Mat& m) {
+// 99th percentile of a non-negative CV_32F image, from a 256-bin histogram up to its max;
+// `zeros` more zero-valued pixels (sampled 1 in 4, like the image) join the count.
+double high_percentile(const cv::Mat& m, long zeros) {
   double hi = 0;
   cv::minMaxLoc(m, nullptr, &hi);
   if (hi <= 0) return 0;
@@ -29,7 +30,7 @@ double high_percentile(const cv::Mat& m) {
     const float* p = m.ptr<float>(r);
     for (int c = 0; c < m.cols; c += 2) ++hist[std::min(255, int(p[c] * s))];
   }
-  long total = 0;
+  long total = zeros / 4;
   for (int h : hist) total += h;
   long acc = 0;
   for (int b = 255; b >= 0; --b) {
@@ -42,20 +43,36 @@ double high_percentile(const cv::Mat& m) {
 }  // namespace
 
 EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options) {
+  if (image.empty()) throw std::invalid_argument("edge_image: empty image");
+  return edge_image(image, options, cv::Rect(0, 0, image.cols, image.rows));
+}
+
+EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv::Rect& roi_in) {
   options.check();
   if (image.empty()) throw std::invalid_argument("edge_image: empty image");
   if (image.channels() != 1)
     throw std::invalid_argument("edge_image: expected one channel, got " +
                                 std::to_string(image.channels()));
+  const cv::Rect roi = roi_in & cv::Rect(0, 0, image.cols, image.rows);
+  if (roi.empty()) throw std::invalid_argument("edge_image: region outside the image");
   cv::Mat f;
-  image.convertTo(f, CV_32F);
+  image(roi).convertTo(f, CV_32F);
   if (options.blur_sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(), options.blur_sigma_px);
-  EdgeImage e;
+  cv::Mat gx, gy, mag;
   // Sobel 3x3 scaled by 1/8 so the gradient is in intensity units per pixel.
-  cv::Sobel(f, e.gx, CV_32F, 1, 0, 3, 0.125);
-  cv::Sobel(f, e.gy, CV_32F, 0, 1, 3, 0.125);
-  cv::magnitude(e.gx, e.gy, e.magnitude);
-  e.threshold = options.threshold_fraction * high_percentile(e.magnitude);
+  cv::Sobel(f, gx, CV_32F, 1, 0, 3, 0.125);
+  cv::Sobel(f, gy, CV_32F, 0, 1, 3, 0.125);
+  cv::magnitude(gx, gy, mag);
+  EdgeImage e;
+  e.threshold = options.threshold_fraction * high_percentile(mag, long(image.total() - roi.area()));
+  if (roi.size() == image.size()) {
+    e.gx = gx, e.gy = gy, e.magnitude = mag;
+  } else {
+    for (cv::Mat* m : {&e.gx, &e.gy, &e.magnitude}) *m = cv::Mat::zeros(image.size(), CV_32F);
+    gx.copyTo(e.gx(roi));
+    gy.copyTo(e.gy(roi));
+    mag.copyTo(e.magnitude(roi));
+  }
   cv::compare(e.magnitude, e.threshold, e.edges, cv::CMP_GT);
   return e;
 }

@@ -23,6 +23,11 @@ struct EdgeImage {
 // an empty or multi-channel image.
 EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options = {});
 
+// Same, computed inside `roi` only (clipped to the image; the images keep the full size and are
+// zero outside it, and the threshold counts those pixels as zero-gradient ones). Throws
+// std::invalid_argument as above or when `roi` misses the image.
+EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv::Rect& roi);
+
 // Bilinear sample of a CV_32F image at (x, y) in pixel-centre coordinates (pixel (c, r) has
 // its centre at (c, r)); points outside are clamped to the border.
 float sample(const cv::Mat& image32f, double x, double y);

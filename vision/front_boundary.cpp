@@ -5,6 +5,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "vision/bspline.h"
 #include "vision/contour_chain.h"
 #include "vision/edges.h"
@@ -95,7 +97,11 @@ FrontBoundary front_boundary(const cv::Mat& prob, const cv::Mat& mask, int botto
   if (bottom_row < 0) bottom_row = int(e.top + 1.45 * fb.head_width_px);
   fb.top_row = e.top;
   fb.bottom_row = std::clamp(bottom_row, e.top, e.bottom);
-  const EdgeImage edges = edge_image(prob, {0.7, 0.1});
+  // Edges near the blob only: its box plus the fit's search range and the filters' support.
+  const int pad = 12;
+  const cv::Rect box = cv::boundingRect(mask);
+  const EdgeImage edges = edge_image(prob, {0.7, 0.1}, cv::Rect(box.x - pad, box.y - pad,
+                                                                box.width + 2 * pad, box.height + 2 * pad));
   double sl = 0, sr = 0;
   fb.left = fit_side(e, edges, fb.top_row, fb.bottom_row, true, o, &sl);
   fb.right = fit_side(e, edges, fb.top_row, fb.bottom_row, false, o, &sr);

@@ -53,7 +53,12 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
   f.min_search_px = 1.5;
   f.iterations = 3;
   f.smoothness = 0.02;
-  const ProfileFit fit = fit_profile_to_edges(init, edge_image(prob, {0.7, 0.1}), f);
+  // Edges near the chain only: its box plus the fit's search range and the filters' support.
+  const int pad = 12;
+  const cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(chain.begin(), chain.end()));
+  const EdgeImage edges = edge_image(prob, {0.7, 0.1}, cv::Rect(box.x - pad, box.y - pad,
+                                                                box.width + 2 * pad, box.height + 2 * pad));
+  const ProfileFit fit = fit_profile_to_edges(init, edges, f);
   *support = fit.support;
   return resample(bspline_samples(fit.spline, std::max(50, int(len))), 1.0);
 }
@@ -105,10 +110,11 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
 // 0 when both or neither (the other cues decide).
 double face_profile_side(const cv::Mat& mask, const RowExtent& e, double h) {
   const int stop = std::min(e.bottom, int(e.top + 1.45 * h));
-  cv::Mat flipped;
-  cv::flip(mask, flipped, 1);
+  cv::Mat flipped;  // the blob's box, mirrored: the right side becomes a left-facing front
+  cv::flip(mask(cv::boundingRect(mask)), flipped, 1);
+  const int shift = cv::boundingRect(mask).y;
   const bool left = reads_as_face_profile(resample_chain(front_chain(mask, stop)), h);
-  const bool right = reads_as_face_profile(resample_chain(front_chain(flipped, stop)), h);
+  const bool right = reads_as_face_profile(resample_chain(front_chain(flipped, stop - shift)), h);
   return double(left) - double(right);
 }
 
