@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 #include "model/adapt_detail.h"
 
@@ -55,6 +56,30 @@ double interpolate_between(double x_l, double x_r, double base_l, double base_r,
   return x_l + (x_r - x_l) * (base_x - base_l) / (base_r - base_l);  // seed 004 eq. 2
 }
 
+namespace {
+
+// The k nearest landmarks of a point, kept sorted by squared distance (insertion; k is small).
+class NearestK {
+ public:
+  explicit NearestK(int k) : best_(k) {}
+  void reset() { filled_ = 0; }
+  bool full() const { return filled_ == static_cast<int>(best_.size()); }
+  void offer(double d2, int i) {
+    const int k = static_cast<int>(best_.size());
+    if (full() && d2 >= best_[k - 1].first) return;
+    int pos = full() ? k - 1 : filled_++;
+    while (pos > 0 && best_[pos - 1].first > d2) best_[pos] = best_[pos - 1], --pos;
+    best_[pos] = {d2, i};
+  }
+  const std::pair<double, int>& operator[](int n) const { return best_[n]; }
+
+ private:
+  std::vector<std::pair<double, int>> best_;
+  int filled_ = 0;
+};
+
+}  // namespace
+
 std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3d>& points,
                                                 const std::vector<Eigen::Vector3d>& landmarks,
                                                 const std::vector<Eigen::Vector3d>& displacements,
@@ -65,17 +90,22 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
     throw std::invalid_argument("nnwa_displacements: k = " + std::to_string(k) +
                                 " must be in [1, " + std::to_string(landmarks.size()) +
                                 "] (the landmark count)");
+  const int n = static_cast<int>(landmarks.size());
+  Eigen::ArrayXd lx(n), ly(n), lz(n), d2(n);  // one coordinate per array: vectorised distances
+  for (int i = 0; i < n; ++i)
+    lx[i] = landmarks[i].x(), ly[i] = landmarks[i].y(), lz[i] = landmarks[i].z();
   std::vector<Eigen::Vector3d> out(points.size());
-  std::vector<std::pair<double, int>> best(k);  // the k nearest so far, ascending
+  NearestK best(k);
   for (size_t j = 0; j < points.size(); ++j) {
-    int filled = 0;
-    for (size_t i = 0; i < landmarks.size(); ++i) {
-      const double d2 = (landmarks[i] - points[j]).squaredNorm();
-      if (filled == k && d2 >= best[k - 1].first) continue;
-      int pos = filled < k ? filled++ : k - 1;
-      while (pos > 0 && best[pos - 1].first > d2) best[pos] = best[pos - 1], --pos;
-      best[pos] = {d2, static_cast<int>(i)};
-    }
+    const Eigen::Vector3d& p = points[j];
+    d2 = (lx - p.x()).square() + (ly - p.y()).square() + (lz - p.z()).square();
+    // Outwards from the nearest: neighbouring indices are mostly near in space (vertex order),
+    // so later offers are rejected by one comparison.
+    int nearest = 0;
+    d2.minCoeff(&nearest);
+    best.reset();
+    for (int i = nearest; i < n; ++i) best.offer(d2[i], i);
+    for (int i = nearest - 1; i >= 0; --i) best.offer(d2[i], i);
     if (best[0].first < 1e-18) {  // on a landmark: its own displacement (the limit of eq. 3.8)
       out[j] = displacements[best[0].second];
       continue;
@@ -149,11 +179,9 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
                               : detail::vertex_adjacency(base.mesh);
   detail::blend_near_features(adjacency, aligned, r.targets, options, moved);
   r.mesh = base.mesh;
-  r.mesh.vertices = moved;
-  TriMesh reference = base.mesh;
-  reference.vertices = aligned;
+  r.mesh.vertices = std::move(moved);
   const auto [fixed, remaining] =
-      detail::remove_folds(adjacency, reference, r.targets, options.max_fold_passes, r.mesh);
+      detail::remove_folds(adjacency, aligned, r.targets, options.max_fold_passes, r.mesh);
   r.folds_fixed = fixed;
   r.folds_remaining = remaining;
   if (remaining > 0)

@@ -42,10 +42,11 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
                          const LandmarkTargets& targets, const AdaptOptions& options,
                          std::vector<Eigen::Vector3d>& moved);
 
-// Relaxes vertices of flipped triangles (free ones first, then any) until none is flipped or
-// the passes run out. Returns {folds found at the start, folds left}.
+// Relaxes vertices of triangles flipped against the same triangles on `reference` (vertex
+// positions, same topology; free vertices first, then any) until none is flipped or the passes
+// run out. Returns {folds found at the start, folds left}.
 std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
-                                 const TriMesh& reference, const LandmarkTargets& targets,
-                                 int max_passes, TriMesh& mesh);
+                                 const std::vector<Eigen::Vector3d>& reference,
+                                 const LandmarkTargets& targets, int max_passes, TriMesh& mesh);
 
 }  // namespace orthoface::model::detail

@@ -152,7 +152,8 @@ AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
   const std::vector<std::string> outliers = outlier_features(base, data, options, a.targets);
   if (!outliers.empty()) {
     AdaptOptions without = options;
-    without.ignored_features.insert(without.ignored_features.end(), outliers.begin(), outliers.end());
+    without.ignored_features.insert(without.ignored_features.end(), outliers.begin(),
+                                    outliers.end());
     a.alignment = align_base(base, data, without.ignored_features);
     a.aligned = detail::apply(a.alignment, base.mesh.vertices);
     std::vector<std::string> second;
@@ -254,36 +255,44 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
 }
 
 std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
-                                 const TriMesh& reference, const LandmarkTargets& targets,
-                                 int max_passes, TriMesh& mesh) {
-  std::vector<bool> is_target(mesh.vertices.size(), false);
-  for (int v : targets.vertices) is_target[v] = true;
-  auto normal = [](const TriMesh& m, const std::array<int, 3>& f) {
-    return (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
+                                 const std::vector<Eigen::Vector3d>& reference,
+                                 const LandmarkTargets& targets, int max_passes, TriMesh& mesh) {
+  std::vector<char> is_target(mesh.vertices.size(), 0);
+  for (int v : targets.vertices) is_target[v] = 1;
+  auto normal = [](const std::vector<Eigen::Vector3d>& p, const std::array<int, 3>& f) {
+    return (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
   };
-  std::vector<Eigen::Vector3d> n0;
-  for (const auto& f : reference.triangles) n0.push_back(normal(reference, f));
-  auto flipped = [&]() {
-    std::vector<int> out;
+  std::vector<int> folds;
+  auto find_folds = [&]() {
+    folds.clear();
     for (size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (normal(mesh, mesh.triangles[t]).dot(n0[t]) <= 0) out.push_back(static_cast<int>(t));
-    return out;
+      if (normal(mesh.vertices, mesh.triangles[t]).dot(normal(reference, mesh.triangles[t])) <= 0)
+        folds.push_back(static_cast<int>(t));
   };
-  std::vector<int> folds = flipped();
+  find_folds();
   const int initial = static_cast<int>(folds.size());
+  std::vector<int> loose;
+  bool move_targets = false;  // data points give way last: when free vertices alone do not
+                              // reduce the folds, or after half the passes
   for (int pass = 0; pass < max_passes && !folds.empty(); ++pass) {
-    const bool move_targets = pass >= max_passes / 2;  // data points give way last
-    std::set<int> loose;
+    move_targets = move_targets || pass >= max_passes / 2;
+    loose.clear();
     for (int t : folds)
-      for (int v : mesh.triangles[t])
-        for (int w : adjacency[v]) loose.insert(w), loose.insert(v);
+      for (int v : mesh.triangles[t]) {
+        loose.push_back(v);
+        loose.insert(loose.end(), adjacency[v].begin(), adjacency[v].end());
+      }
+    std::sort(loose.begin(), loose.end());
+    loose.erase(std::unique(loose.begin(), loose.end()), loose.end());
     for (int v : loose) {
       if (is_target[v] && !move_targets) continue;
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
       for (int w : adjacency[v]) mean += mesh.vertices[w];
       mesh.vertices[v] = 0.5 * mesh.vertices[v] + 0.5 * mean / double(adjacency[v].size());
     }
-    folds = flipped();
+    const size_t before = folds.size();
+    find_folds();
+    move_targets = move_targets || folds.size() >= before;
   }
   return {initial, static_cast<int>(folds.size())};
 }

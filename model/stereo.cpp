@@ -50,16 +50,21 @@ void require_finite(const std::vector<cv::Point2d>& pts, const std::string& what
 }
 
 // Extreme value (max of sign * value) over the polyline segments that cross height y.
+// x of segment ab at height y, or nullopt when ab does not reach y.
+std::optional<double> segment_at(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double y) {
+  if ((a.y() - y) * (b.y() - y) > 0) return std::nullopt;
+  const double t = std::abs(b.y() - a.y()) < 1e-12 ? 0.5 : (y - a.y()) / (b.y() - a.y());
+  return a.x() + t * (b.x() - a.x());
+}
+
+void keep_extreme(std::optional<double> v, int sign, std::optional<double>& best) {
+  if (v && (!best || sign * *v > sign * *best)) best = v;
+}
+
 std::optional<double> extreme_at(const std::vector<Eigen::Vector2d>& curve, double y, int sign) {
   std::optional<double> best;
-  for (size_t i = 0; i + 1 < curve.size(); ++i) {
-    const Eigen::Vector2d& a = curve[i];
-    const Eigen::Vector2d& b = curve[i + 1];
-    if ((a.y() - y) * (b.y() - y) > 0) continue;
-    const double t = std::abs(b.y() - a.y()) < 1e-12 ? 0.5 : (y - a.y()) / (b.y() - a.y());
-    const double v = a.x() + t * (b.x() - a.x());
-    if (!best || sign * v > sign * *best) best = v;
-  }
+  for (size_t i = 0; i + 1 < curve.size(); ++i)
+    keep_extreme(segment_at(curve[i], curve[i + 1], y), sign, best);
   return best;
 }
 
@@ -205,17 +210,11 @@ Eigen::Vector3d triangulate(const capture::RigCalibration& rig, const Eigen::Vec
 
 std::optional<double> silhouette_x_at(const StereoData& data, double y, int sign) {
   const double c = centre_x_at(data, y);
-  std::vector<Eigen::Vector2d> side;  // only the points on the requested side of the centre
-  std::optional<double> best;
-  for (const Eigen::Vector2d& p : data.silhouette) {
-    if (sign * (p.x() - c) > 0) {
-      side.push_back(p);
-      continue;
-    }
-    if (auto v = extreme_at(side, y, sign); v && (!best || sign * *v > sign * *best)) best = v;
-    side.clear();
-  }
-  if (auto v = extreme_at(side, y, sign); v && (!best || sign * *v > sign * *best)) best = v;
+  const std::vector<Eigen::Vector2d>& s = data.silhouette;
+  std::optional<double> best;  // over the segments with both ends on the requested side
+  for (size_t i = 0; i + 1 < s.size(); ++i)
+    if (sign * (s[i].x() - c) > 0 && sign * (s[i + 1].x() - c) > 0)
+      keep_extreme(segment_at(s[i], s[i + 1], y), sign, best);
   return best;
 }
 
