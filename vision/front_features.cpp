@@ -73,6 +73,21 @@ double cheek_x(const std::vector<cv::Point2d>& side, double y, double H, int out
   return coef.at<double>(0);
 }
 
+// How far below the subnasale row the mouth is looked for when the lip rows miss it.
+constexpr double kMouthSearch = 0.3;
+
+// Mouth at the profile's lip rows; when the views are not level (a real front and side photo
+// taken at different heights) the lips lie off those rows, so a second search spans the band
+// below the nose (position model: the mouth lies within 0.3 H under the subnasale).
+MouthFound mouth_near_rows(const FilterContext& ctx, double x0, double r_sub, double r_lu,
+                           double r_ll, double W, double H) {
+  MouthFound m = find_mouth(ctx, x0, r_lu, r_ll, W, H);
+  if (m.ok) return m;
+  m = find_mouth(ctx, x0, r_sub + 0.06 * H, r_sub + (kMouthSearch - 0.04) * H, W, H);
+  m.confidence *= 0.6;
+  return m;
+}
+
 }  // namespace
 
 cv::Point2d mirror_point(const CentreLine& line, cv::Point2d p) {
@@ -106,14 +121,15 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
   const double W = boundary_x(fb.right, r_fh) - boundary_x(fb.left, r_fh);
   // The filters' windows: eyes and brows (x0 +- 0.62 W, from 0.14 H above the nasion row) down
   // to the mouth (0.04 H under the lower lip row) and the cheek skin beside the nose.
-  const double box_top = std::min(r_nasion, r_lu) - 0.2 * H, box_bottom = std::max(r_ll, r_sub) + 0.1 * H;
+  const double box_top = std::min(r_nasion, r_lu) - 0.2 * H,
+               box_bottom = std::max(r_ll, r_sub + kMouthSearch * H) + 0.1 * H;
   const cv::Rect box(cv::Point(int(x0 - 0.7 * W), int(box_top)),
                      cv::Point(int(x0 + 0.7 * W) + 2, int(box_bottom) + 2));
   const FilterContext ctx = make_filter_context(bgr, cv::Point2d(x0, r_tip + 0.06 * H), W, box);
   // Eyes: image-left eye is the subject's right eye.
   const EyeFound er = find_eye(ctx, x0, r_nasion, W, H, true);
   const EyeFound el = find_eye(ctx, x0, r_nasion, W, H, false);
-  const MouthFound mouth = find_mouth(ctx, x0, r_lu, r_ll, W, H);
+  const MouthFound mouth = mouth_near_rows(ctx, x0, r_sub, r_lu, r_ll, W, H);
   const NoseFound nose = find_nose(ctx, x0, r_tip, r_sub, W, H);
   std::vector<std::pair<cv::Point2d, cv::Point2d>> pairs;
   if (er.ok && el.ok) pairs.push_back({er.centre, el.centre});

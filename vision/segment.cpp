@@ -122,45 +122,35 @@ cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options, int
   options.check();
   if (probability.empty() || probability.type() != CV_32F)
     throw std::invalid_argument("head_mask: expected a CV_32F probability map");
-  // The blob is chosen, cleaned and hole-filled at half resolution (4x less work); only a
-  // 2-pixel band around its outline takes the full-resolution threshold.
-  const cv::Size half((probability.cols + 1) / 2, (probability.rows + 1) / 2);
-  cv::Mat small, m;
-  cv::resize(probability, small, half, 0, 0, cv::INTER_AREA);
-  cv::compare(small, 0.5, m, cv::CMP_GT);
-  const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(3, 3));
+  cv::Mat m;
+  cv::compare(probability, 0.5, m, cv::CMP_GT);
+  const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5));
   cv::morphologyEx(m, m, cv::MORPH_OPEN, k);
   cv::morphologyEx(m, m, cv::MORPH_CLOSE, k);
-  cv::Mat labels, stats, centroids;
-  const int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
+  // Blobs as outer contours (several times faster than labelling the components); a blob's
+  // area counts its holes, which are filled anyway.
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(m, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  std::vector<double> areas(contours.size());
   int best = -1;
   double best_score = 0;
   const double cx = m.cols / 2.0, diag = std::hypot(m.cols, m.rows);
-  for (int i = 1; i < n; ++i) {
-    const double area = stats.at<int>(i, cv::CC_STAT_AREA);
-    if (area < options.min_head_fraction * m.total()) continue;
+  for (size_t i = 0; i < contours.size(); ++i) {
+    const cv::Moments mo = cv::moments(contours[i]);
+    areas[i] = mo.m00;
+    if (mo.m00 < options.min_head_fraction * m.total()) continue;
     // Prefer big blobs near the horizontal centre.
-    const double dx = std::abs(centroids.at<double>(i, 0) - cx) / diag;
-    const double score = area * (1.0 - dx);
-    if (score > best_score) best_score = score, best = i;
+    const double dx = std::abs(mo.m10 / mo.m00 - cx) / diag;
+    const double score = mo.m00 * (1.0 - dx);
+    if (score > best_score) best_score = score, best = int(i);
   }
   if (num_blobs) *num_blobs = 0;
   if (best < 0) return {};
   if (num_blobs)
-    for (int i = 1; i < n; ++i)
-      *num_blobs += stats.at<int>(i, cv::CC_STAT_AREA) >= 0.5 * stats.at<int>(best, cv::CC_STAT_AREA);
-  cv::Mat blob = labels == best;
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(blob, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-  cv::Mat filled = cv::Mat::zeros(m.size(), CV_8U), inner, outer;
-  cv::drawContours(filled, contours, -1, cv::Scalar(255), cv::FILLED);
-  cv::erode(filled, inner, k);
-  cv::dilate(filled, outer, k);
-  cv::Mat inner_full, outer_full, fine;
-  cv::resize(inner, inner_full, probability.size(), 0, 0, cv::INTER_NEAREST);
-  cv::resize(outer, outer_full, probability.size(), 0, 0, cv::INTER_NEAREST);
-  cv::compare(probability, 0.5, fine, cv::CMP_GT);
-  return (fine & outer_full) | inner_full;
+    for (double a : areas) *num_blobs += a >= 0.5 * areas[best];
+  cv::Mat filled = cv::Mat::zeros(m.size(), CV_8U);
+  cv::drawContours(filled, contours, best, cv::Scalar(255), cv::FILLED);
+  return filled;
 }
 
 cv::Mat skin_probability(const cv::Mat& bgr) {

@@ -20,8 +20,8 @@ cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
                                const SegmentOptions& options = {});
 
 // Binary mask (CV_8U 0/255) of the head blob: the largest central connected component of
-// `probability` > 0.5, holes filled (chosen at half resolution; the outline keeps the full
-// resolution). Empty Mat when nothing large enough is found.
+// `probability` > 0.5 (its outer contour), holes filled. Empty Mat when nothing large enough
+// is found.
 // `num_blobs` (optional) gets how many blobs were at least half the chosen one's area.
 cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options = {},
                   int* num_blobs = nullptr);
