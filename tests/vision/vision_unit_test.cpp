@@ -7,6 +7,7 @@
 
 #include "tests/common/test_data.h"
 #include "vision/bspline.h"
+#include "vision/contour_chain.h"
 #include "vision/curve_features.h"
 #include "vision/edges.h"
 #include "vision/front_features.h"
@@ -14,6 +15,7 @@
 #include "vision/observation_io.h"
 #include "vision/profile_fit.h"
 #include "vision/segment.h"
+#include "vision/side_profile.h"
 
 namespace ov = orthoface::vision;
 
@@ -85,6 +87,55 @@ TEST(EdgeImage, StepEdgeAndBadInput) {
   EXPECT_EQ(cv::countNonZero(flat.edges), 0);
 }
 
+TEST(EdgeImage, RegionMatchesTheWholeImageInsideAndIsZeroOutside) {
+  cv::Mat img(60, 80, CV_32F, cv::Scalar(0));
+  cv::circle(img, {40, 30}, 15, cv::Scalar(1.0), cv::FILLED, cv::LINE_AA);
+  const ov::EdgeImage whole = ov::edge_image(img, {0.7, 0.1});
+  const cv::Rect roi(15, 5, 50, 50);  // the disc plus 10 px
+  const ov::EdgeImage part = ov::edge_image(img, {0.7, 0.1}, roi);
+  ASSERT_EQ(part.gx.size(), img.size());
+  EXPECT_LT(cv::norm(whole.gx(roi), part.gx(roi), cv::NORM_INF), 1e-5);
+  EXPECT_LT(cv::norm(whole.gy(roi), part.gy(roi), cv::NORM_INF), 1e-5);
+  EXPECT_NEAR(part.threshold, whole.threshold, 0.05 * whole.threshold);  // 1-in-4 sampling
+  EXPECT_EQ(part.magnitude.at<float>(2, 2), 0.f);
+  EXPECT_EQ(cv::countNonZero(part.edges != whole.edges), 0);
+  EXPECT_THROW(ov::edge_image(img, {}, cv::Rect(100, 100, 5, 5)), std::invalid_argument);
+  EXPECT_THROW(ov::edge_image(cv::Mat(), {}, roi), std::invalid_argument);
+}
+
+// A left-facing profile polygon (crown, forehead, nose, lips, chin, under-chin, throat) closed
+// behind by the back of the head and the neck; head height 200 px.
+std::vector<cv::Point> profile_polygon() {
+  return {{150, 20},  {110, 40},  {100, 90},  {102, 110}, {80, 130}, {96, 142}, {92, 160},
+          {98, 175},  {94, 195},  {120, 215}, {160, 218}, {165, 300}, {240, 300}, {245, 200},
+          {255, 120}, {230, 40}};
+}
+
+TEST(SideProfile, FaceProfileShapeAndFacing) {
+  std::vector<cv::Point2d> curve;
+  const auto poly = profile_polygon();
+  for (size_t i = 0; i + 1 < poly.size() && poly[i].y < 300; ++i) {
+    curve.emplace_back(poly[i]);
+    curve.emplace_back((poly[i] + poly[i + 1]) / 2);
+  }
+  EXPECT_TRUE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 200));
+  // The back of the head (a smooth arc down to the neck) is no face.
+  std::vector<cv::Point2d> back;
+  for (int i = 0; i <= 100; ++i) back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
+  EXPECT_FALSE(ov::reads_as_face_profile(back, 200));
+  EXPECT_FALSE(ov::reads_as_face_profile({}, 200));                      // degenerate input
+  EXPECT_FALSE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 0));  // no head height
+  // The facing cue on the filled blob, also mirrored.
+  cv::Mat mask(320, 320, CV_8U, cv::Scalar(0));
+  cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255));
+  double conf = 0;
+  EXPECT_TRUE(ov::profile_faces_left(mask, &conf));
+  EXPECT_GT(conf, 0.5);
+  cv::Mat flipped;
+  cv::flip(mask, flipped, 1);
+  EXPECT_FALSE(ov::profile_faces_left(flipped, &conf));
+}
+
 TEST(ImagePrep, ConvertsGreySixteenBitAndAlpha) {
   cv::Mat g16(64, 64, CV_16U, cv::Scalar(1000));
   g16.at<uint16_t>(0, 0) = 4000;
@@ -125,6 +176,21 @@ TEST(Segment, BorderModelFindsACentralDisc) {
   EXPECT_TRUE(ov::head_mask(ov::foreground_probability(cv::Mat(200, 200, CV_8UC3, cv::Scalar(9, 9, 9)), cv::Mat())).empty());
   EXPECT_THROW(ov::foreground_probability(img, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
   EXPECT_THROW(ov::foreground_probability(cv::Mat(), cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(ov::head_mask(cv::Mat(10, 10, CV_8U)), std::invalid_argument);
+}
+
+TEST(Segment, TwoBlobsCountedCentralOneChosen) {
+  cv::Mat img(200, 300, CV_8UC3, cv::Scalar(200, 200, 200));
+  cv::circle(img, {150, 110}, 40, cv::Scalar(90, 120, 200), cv::FILLED);  // central
+  cv::circle(img, {235, 110}, 35, cv::Scalar(90, 120, 200), cv::FILLED);  // off-centre
+  cv::circle(img, {150, 110}, 8, cv::Scalar(200, 200, 200), cv::FILLED);  // a hole
+  int blobs = 0;
+  const cv::Mat m = ov::head_mask(ov::foreground_probability(img, cv::Mat()), {}, &blobs);
+  ASSERT_FALSE(m.empty());
+  EXPECT_EQ(blobs, 2);
+  EXPECT_EQ(m.at<uchar>(110, 150), 255);  // hole filled
+  EXPECT_EQ(m.at<uchar>(110, 235), 0);
+  EXPECT_NEAR(cv::countNonZero(m), M_PI * 40 * 40, 250);
 }
 
 TEST(CurveFeatures, AlternatingExtremaOfASine) {
