@@ -16,10 +16,15 @@ constexpr const char* kCharacteristic[] = {
     "forehead_top", "brow_left_center", "nose_bridge", "eye_left_center", "nose_tip", "alar_left",
     "subnasale",    "lip_upper",        "mouth_left",  "lip_lower",       "chin",     "chin_bottom"};
 
-std::vector<std::pair<std::string, double>> slice_plan(double max_gap) {
+constexpr double kMaxExtrapolationMm = 40;
+
+std::vector<std::pair<std::string, double>> slice_plan(const BaseMeshOptions& o) {
+  const double max_gap = o.max_slice_gap_mm;
   const auto l = generic_landmarks();
   std::vector<std::pair<std::string, double>> h;
   for (const char* name : kCharacteristic) h.push_back({name, l.at(name).y()});
+  if (o.margin_above_mm > 0) h.push_back({"", l.at("forehead_top").y() + o.margin_above_mm});
+  if (o.margin_below_mm > 0) h.push_back({"", l.at("chin_bottom").y() - o.margin_below_mm});
   std::sort(h.begin(), h.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
   std::vector<std::pair<std::string, double>> plan;
   for (size_t i = 0; i < h.size(); ++i) {
@@ -41,22 +46,47 @@ void BaseMeshOptions::check() const {
   if (!(max_slice_gap_mm >= 1.0 && max_slice_gap_mm <= 200.0))
     throw std::invalid_argument("BaseMeshOptions: max_slice_gap_mm must be in [1, 200], got " +
                                 std::to_string(max_slice_gap_mm));
+  for (const auto& [name, margin] : {std::pair{"margin_above_mm", margin_above_mm},
+                                     std::pair{"margin_below_mm", margin_below_mm}})
+    if (!(margin >= 0 && margin <= kMaxExtrapolationMm))
+      throw std::invalid_argument(std::string("BaseMeshOptions: ") + name + " must be in [0, " +
+                                  std::to_string(int(kMaxExtrapolationMm)) + "], got " +
+                                  std::to_string(margin));
 }
 
-Eigen::Vector2d generic_contour(double y, double angle) {
+namespace {
+
+// The sampled contour at table row `row` (fractional, inside the table), ray |angle|.
+Eigen::Vector2d sampled_contour(double row, double ray) {
   using namespace detail;
-  // Bilinear in (row, ray) over the sampled table; the head is mirror symmetric in x.
-  const double row = std::clamp((kGenericTop - y) / (kGenericTop - kGenericBottom), 0.0, 1.0) *
-                     (kGenericRows - 1);
-  const double ray = std::clamp(std::abs(angle) / (M_PI / 2), 0.0, 1.0) * (kGenericHalfRays - 1);
   const int r0 = std::min(static_cast<int>(row), kGenericRows - 2);
   const int a0 = std::min(static_cast<int>(ray), kGenericHalfRays - 2);
   const double tr = row - r0, ta = ray - a0;
   auto at = [](int r, int a) {
     return Eigen::Vector2d(kGenericContour[r][a][0], kGenericContour[r][a][1]);
   };
-  const Eigen::Vector2d p = (1 - tr) * ((1 - ta) * at(r0, a0) + ta * at(r0, a0 + 1)) +
-                            tr * ((1 - ta) * at(r0 + 1, a0) + ta * at(r0 + 1, a0 + 1));
+  return (1 - tr) * ((1 - ta) * at(r0, a0) + ta * at(r0, a0 + 1)) +
+         tr * ((1 - ta) * at(r0 + 1, a0) + ta * at(r0 + 1, a0 + 1));
+}
+
+}  // namespace
+
+Eigen::Vector2d generic_contour(double y, double angle) {
+  using namespace detail;
+  // Bilinear in (row, ray) over the sampled table; the head is mirror symmetric in x.
+  const double row_mm = (kGenericTop - kGenericBottom) / (kGenericRows - 1);
+  const double row = (kGenericTop - std::clamp(y, kGenericBottom - kMaxExtrapolationMm,
+                                               kGenericTop + kMaxExtrapolationMm)) / row_mm;
+  const double ray = std::clamp(std::abs(angle) / (M_PI / 2), 0.0, 1.0) * (kGenericHalfRays - 1);
+  Eigen::Vector2d p;
+  if (row < 0 || row > kGenericRows - 1) {  // linear continuation of the end row's slope
+    const double end = row < 0 ? 0 : kGenericRows - 1, inner = row < 0 ? 1 : kGenericRows - 2;
+    const Eigen::Vector2d e = sampled_contour(end, ray);
+    p = e + std::abs(row - end) * (e - sampled_contour(inner, ray));
+    p.x() = std::max(p.x(), 0.0);
+  } else {
+    p = sampled_contour(row, ray);
+  }
   return {angle < 0 ? -p.x() : p.x(), p.y()};
 }
 
@@ -73,7 +103,7 @@ std::map<std::string, Eigen::Vector3d> generic_landmarks() {
 
 BaseMesh base_mesh(const BaseMeshOptions& options) {
   options.check();
-  const auto plan = slice_plan(options.max_slice_gap_mm);
+  const auto plan = slice_plan(options);
   const int n = options.vertices_per_slice, mid = (n - 1) / 2;
   const double y_top = plan.front().second, y_bottom = plan.back().second;
   BaseMesh b;

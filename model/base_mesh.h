@@ -19,6 +19,11 @@ struct BaseMeshOptions {
   int vertices_per_slice = 41;  // odd, >= 9: contour points from subject right to left
   double max_slice_gap_mm = 6;  // slices are added between characteristic heights until
                                 // no gap exceeds this
+  // The mesh reaches beyond the face (forehead_top .. chin_bottom) by these margins, so a
+  // reconstruction still covers the whole face when its top / bottom landmarks come out a few
+  // mm short (new views would show background there); 0..40.
+  double margin_above_mm = 15;
+  double margin_below_mm = 10;
   void check() const;           // throws std::invalid_argument
 };
 
@@ -43,8 +48,9 @@ struct BaseMesh {
 BaseMesh base_mesh(const BaseMeshOptions& options = {});
 
 // The generic head: the point (x, z) mm of its horizontal section at height y, on the ray
-// from (x 0, z 0) at `angle_rad` from +z toward +x (-pi/2 .. pi/2). Heights outside the base
-// mesh are clamped to it. The shape is the project's average simulated head (seed 0) sampled
+// from (x 0, z 0) at `angle_rad` from +z toward +x (-pi/2 .. pi/2). Above forehead_top and
+// below chin_bottom the sampled shape is extrapolated linearly (at most 40 mm, farther heights
+// are clamped to that). The shape is the project's average simulated head (seed 0) sampled
 // offline into model/base_mesh_data.cpp.
 Eigen::Vector2d generic_contour(double y_mm, double angle_rad);
 

@@ -2,6 +2,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -44,6 +45,17 @@ TEST(DemoCommand, WritesAContactSheetAndOneFolderPerSubject) {
   for (const char* sub : {"subject_0", "subject_1", "subject_2"}) {
     EXPECT_TRUE(fs::exists(work / "d" / sub / "sim" / "front.png")) << sub;
     EXPECT_TRUE(fs::exists(work / "d" / sub / "sim" / "landmarks.json")) << sub;
+  }
+  // The synthesized 45-degree views of the simulated subjects against their true views (the
+  // face mask reaches forehead_top and below the chin: the model must cover all of it).
+  for (const char* seed : {"seed 0 ", "seed 1 ", "seed 2 "}) {
+    const size_t line = out.find(std::string("  ") + seed);
+    ASSERT_NE(line, std::string::npos) << out;
+    double psnr = 0, ssim = 0;
+    const size_t at = out.find("yaw 45: PSNR", line);
+    ASSERT_EQ(std::sscanf(out.c_str() + at, "yaw 45: PSNR %lf dB, SSIM %lf", &psnr, &ssim), 2) << out;
+    EXPECT_GT(psnr, 27.0) << seed;
+    EXPECT_GT(ssim, 0.91) << seed;
   }
 }
 

@@ -76,7 +76,7 @@ TEST(BaseMesh, CoarsestOptionsStillWork) {
   o.vertices_per_slice = 9;
   o.max_slice_gap_mm = 100;
   const BaseMesh b = base_mesh(o);
-  EXPECT_EQ(b.slices.size(), 12u);  // only the characteristic heights
+  EXPECT_EQ(b.slices.size(), 14u);  // only the characteristic heights and the two margins
   check_mesh(b.mesh, "coarse base");
 }
 
@@ -87,6 +87,31 @@ TEST(BaseMesh, BadOptionsThrow) {
   o.vertices_per_slice = 41;
   o.max_slice_gap_mm = 0;
   EXPECT_THROW(base_mesh(o), std::invalid_argument);
+  o = {};
+  o.margin_above_mm = -1;
+  EXPECT_THROW(base_mesh(o), std::invalid_argument);
+  o = {};
+  o.margin_below_mm = 41;
+  EXPECT_THROW(base_mesh(o), std::invalid_argument);
+}
+
+TEST(BaseMesh, ReachesBeyondTheFaceByTheMargins) {
+  const auto l = generic_landmarks();
+  const BaseMesh b = base_mesh();
+  EXPECT_NEAR(b.slice_heights.front(), l.at("forehead_top").y() + 15, 1e-9);
+  EXPECT_NEAR(b.slice_heights.back(), l.at("chin_bottom").y() - 10, 1e-9);
+  // The named face slices keep their landmarks; the margins continue the shape smoothly:
+  // above the forehead the centre recedes (smaller z) and stays within a few mm per slice.
+  const Eigen::Vector3d top = b.mesh.vertices[b.centre(0)];
+  const Eigen::Vector3d forehead = b.mesh.vertices[b.features.at("forehead_top")];
+  EXPECT_LT(top.z(), forehead.z());
+  EXPECT_GT(top.z(), forehead.z() - 15);
+  EXPECT_NEAR(generic_contour(l.at("forehead_top").y(), 0).y(), forehead.z(), 0.5);
+  BaseMeshOptions none;
+  none.margin_above_mm = none.margin_below_mm = 0;
+  const BaseMesh face_only = base_mesh(none);
+  EXPECT_NEAR(face_only.slice_heights.front(), l.at("forehead_top").y(), 1e-9);
+  EXPECT_NEAR(face_only.slice_heights.back(), l.at("chin_bottom").y(), 1e-9);
 }
 
 }  // namespace
