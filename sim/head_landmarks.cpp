@@ -93,8 +93,9 @@ std::map<std::string, double> profile_heights(const HeadSurface& s, double theta
     return (Eigen::Vector2d(z, y) - T).dot(nrm);
   });
   // Chin bottom (gnathion): the chin point projecting furthest 45 degrees below forward;
-  // steeper directions would pick the throat, which leans forward under the chin.
-  const size_t cb = p.best(a.y_menton - 25, p.y[chin], [](double y, double z) { return z - y; });
+  // steeper directions would pick the throat, which leans forward under the chin, and so would
+  // a search reaching far below the menton (it starts 2 mm under it).
+  const size_t cb = p.best(a.y_menton - 2, p.y[chin], [](double y, double z) { return z - y; });
   h["nose_tip"] = p.y[tip];
   h["nose_bridge"] = p.y[bridge];
   h["lip_upper"] = p.y[lu];

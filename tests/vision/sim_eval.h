@@ -52,10 +52,9 @@ inline double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// Landmarks skipped in scoring: ears come from a position model only, chin_bottom's sim
-// definition (a point on the neck front at crown - head_height) differs from the profile's menton.
+// Landmarks skipped in scoring: ears come from a position model only.
 inline bool scored(const std::string& name) {
-  return name.find("ear_") != 0 && name != "chin_bottom";
+  return name.find("ear_") != 0;
 }
 
 inline SimScore score(const vision::FaceObservation& obs, const sim::Capture& cap) {
