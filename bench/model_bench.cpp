@@ -1,15 +1,19 @@
 // model_bench: speed of the adaptation and reconstruction accuracy on simulated subjects.
-//   model_bench speed                       adaptation time per call (target <= 1 ms), JSON
-//   model_bench gen-base FILE.cpp          writes model/base_mesh_data.cpp (the generic shape)
-//   model_bench accuracy [SUBJECTS] [PLOT]  relative error table, k and landmark sweeps, JSON;
-//                                           PLOT = PNG of the two sweeps (OpenCV drawing)
+//   model_bench [--benchmark_...]            Google Benchmark (JSON): adapt() per call (target
+//                                            <= 1 ms), Procrustes, stereo matching, base mesh
+//   model_bench accuracy [SUBJECTS] [OUTDIR] relative error tables, k and landmark sweeps (JSON
+//                                            on stdout, Markdown on stderr); OUTDIR gets
+//                                            model_accuracy.{json,md} and model_sweeps.png
+//   model_bench gen-base FILE.cpp            writes model/base_mesh_data.cpp (the generic shape)
 // The table is made twice: from the true masks and landmarks (sim/truth_observation.h: the model
 // stage alone) and from vision::observe on the rendered photos (the whole pipeline). The k and
-// landmark-count sweeps use the true observations. Ideal rig, subjects = make_head seeds 1..N.
+// landmark-count sweeps use the true observations. Ideal rig, subjects = make_head seeds 0..N-1.
+#include <benchmark/benchmark.h>
+
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -30,9 +34,9 @@
 namespace {
 
 using namespace orthoface;
-using Clock = std::chrono::steady_clock;
 
 struct Subject {
+  int seed = 0;
   sim::Head head;
   model::StereoData data;         // from the true observation
   model::StereoData vision_data;  // from vision::observe on the rendered photos
@@ -43,6 +47,7 @@ struct Subject {
 
 Subject make_subject(int seed, render::Renderer& renderer) {
   Subject s;
+  s.seed = seed;
   s.head = sim::make_head(seed);
   const sim::RigOptions rig_options;  // ideal rig
   const sim::Capture cap = sim::simulate_capture(s.head, rig_options, renderer);
@@ -59,10 +64,6 @@ Subject make_subject(int seed, render::Renderer& renderer) {
 
 double rel(const model::TriMesh& m, const Subject& s) {
   return model::reconstruction_error(m, s.head.mesh, s.region).relative;
-}
-
-double adapt_rel(const model::BaseMesh& base, const Subject& s, const model::AdaptOptions& o) {
-  return rel(model::adapt(base, s.data, o).mesh, s);
 }
 
 // Order in which features are dropped for the landmark-count sweep (least important first).
@@ -180,100 +181,185 @@ int run_gen_base(const std::string& path) {
   return 0;
 }
 
-int run_speed() {
-  render::Renderer renderer;
-  const model::BaseMesh base = model::base_mesh();
-  const Subject s = make_subject(3, renderer);
-  nlohmann::json out;
-  for (auto m : {model::AdaptMethod::Nnwa, model::AdaptMethod::Interpolate}) {
-    model::AdaptOptions o;
-    o.method = m;
-    const int reps = 200;
-    const auto t0 = Clock::now();
-    for (int i = 0; i < reps; ++i) model::adapt(base, s.data, o);
-    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / reps;
-    out[m == model::AdaptMethod::Nnwa ? "adapt_nnwa_ms" : "adapt_interpolate_ms"] = ms;
-  }
-  const auto t0 = Clock::now();
-  for (int i = 0; i < 50; ++i) model::base_mesh();
-  out["base_mesh_ms"] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() / 50;
-  out["vertices"] = base.mesh.vertices.size();
-  out["triangles"] = base.mesh.triangles.size();
-  out["target_adapt_ms"] = 1.0;
-  std::ifstream load("/proc/loadavg");  // the 2-core machine is shared: say how busy it was
-  std::string load1;
-  load >> load1;
-  out["load_average_1min"] = load1;
-  std::cout << out.dump(2) << "\n";
+// Google Benchmark: one observation (seed 3, ideal rig, true landmarks), built once.
+const Subject& speed_subject() {
+  static render::Renderer renderer;
+  static const Subject s = make_subject(3, renderer);
+  return s;
+}
+
+const model::BaseMesh& speed_base() {
+  static const model::BaseMesh base = model::base_mesh();
+  return base;
+}
+
+void BM_Adapt(benchmark::State& state) {
+  const model::BaseMesh& base = speed_base();
+  const Subject& s = speed_subject();
+  model::AdaptOptions o;
+  o.method = state.range(0) == 0 ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;
+  state.SetLabel(state.range(0) == 0 ? "nnwa" : "interpolate");
+  for (auto _ : state) benchmark::DoNotOptimize(model::adapt(base, s.data, o));
+  const model::AdaptResult r = model::adapt(base, s.data, o);
+  state.counters["vertices"] = static_cast<double>(base.mesh.vertices.size());
+  state.counters["landmarks"] = static_cast<double>(r.targets.vertices.size());
+  state.counters["folds_fixed"] = r.folds_fixed;
+  state.counters["target_ms"] = 1.0;
+}
+
+void BM_Procrustes(benchmark::State& state) {
+  const model::BaseMesh& base = speed_base();
+  const Subject& s = speed_subject();
+  for (auto _ : state) benchmark::DoNotOptimize(model::procrustes_fit(base, s.data));
+}
+
+void BM_StereoMatch(benchmark::State& state) {
+  static render::Renderer renderer;
+  static const sim::Capture cap = sim::simulate_capture(sim::make_head(3), {}, renderer);
+  static const vision::FaceObservation obs = sim::truth_observation(cap);
+  for (auto _ : state) benchmark::DoNotOptimize(model::stereo_match(obs, cap.nominal_rig));
+}
+
+void BM_BaseMesh(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(model::base_mesh());
+}
+
+BENCHMARK(BM_Adapt)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Procrustes)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_StereoMatch)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_BaseMesh)->Unit(benchmark::kMillisecond);
+
+int run_benchmarks(int argc, char** argv) {
+  std::vector<char*> args(argv, argv + argc);
+  std::string json = "--benchmark_format=json";  // default; a later flag overrides it
+  args.insert(args.begin() + 1, json.data());
+  int n = static_cast<int>(args.size());
+  benchmark::Initialize(&n, args.data());
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
   return 0;
 }
 
-int run_accuracy(int subjects, const std::string& plot) {
+// The four reconstructions of seed 002 §4 on one subject: relative errors, as fractions.
+struct MethodErrors {
+  double nnwa = 0, interpolate = 0, procrustes = 0, unadapted = 0;
+};
+
+MethodErrors method_errors(const model::BaseMesh& base, const Subject& s,
+                           const model::StereoData& data) {
+  model::AdaptOptions interp;
+  interp.method = model::AdaptMethod::Interpolate;
+  MethodErrors e;
+  e.nnwa = rel(model::adapt(base, data, {}).mesh, s);
+  e.interpolate = rel(model::adapt(base, data, interp).mesh, s);
+  e.procrustes = rel(model::procrustes_fit(base, data), s);
+  e.unadapted = rel(base.mesh, s);
+  return e;
+}
+
+// Per-subject table of the four methods for one landmark source, plus means and the
+// NNWA-below-Procrustes count; `md` gets the same table in Markdown (percent).
+nlohmann::json method_table(const model::BaseMesh& base, const std::vector<Subject>& all,
+                            bool use_vision, std::string& md) {
+  nlohmann::json table = nlohmann::json::array();
+  MethodErrors sum;
+  int beats = 0, n = 0;
+  md += std::string("\n### Landmarks from ") + (use_vision ? "vision" : "ground truth") +
+        " (relative error, %)\n\n| seed | NNWA | eq. 2 | Procrustes | unadapted |\n"
+        "|---|---|---|---|---|\n";
+  for (const Subject& s : all) {
+    if (use_vision && !s.vision_ok) {
+      table.push_back({{"seed", s.seed}, {"error", s.vision_error}});
+      md += cv::format("| %d | failed: %s | | | |\n", s.seed, s.vision_error.c_str());
+      continue;
+    }
+    const MethodErrors e = method_errors(base, s, use_vision ? s.vision_data : s.data);
+    sum.nnwa += e.nnwa, sum.interpolate += e.interpolate;
+    sum.procrustes += e.procrustes, sum.unadapted += e.unadapted;
+    beats += e.nnwa < e.procrustes;
+    ++n;
+    table.push_back({{"seed", s.seed}, {"nnwa", e.nnwa}, {"interpolate", e.interpolate},
+                     {"procrustes", e.procrustes}, {"unadapted", e.unadapted}});
+    md += cv::format("| %d | %.3f | %.3f | %.3f | %.3f |\n", s.seed, 100 * e.nnwa,
+                     100 * e.interpolate, 100 * e.procrustes, 100 * e.unadapted);
+  }
+  nlohmann::json o;
+  o["per_subject_relative_error"] = table;
+  if (n > 0) {
+    o["mean_relative_error"] = {{"nnwa", sum.nnwa / n},
+                                {"interpolate", sum.interpolate / n},
+                                {"procrustes", sum.procrustes / n},
+                                {"unadapted", sum.unadapted / n}};
+    md += cv::format("| **mean** | **%.3f** | %.3f | %.3f | %.3f |\n", 100 * sum.nnwa / n,
+                     100 * sum.interpolate / n, 100 * sum.procrustes / n, 100 * sum.unadapted / n);
+  }
+  o["nnwa_below_procrustes"] = std::to_string(beats) + "/" + std::to_string(n);
+  o["reconstructed"] = std::to_string(n) + "/" + std::to_string(all.size());
+  md += "\nNNWA below Procrustes on " + o["nnwa_below_procrustes"].get<std::string>() +
+        " subjects; reconstructed " + o["reconstructed"].get<std::string>() + ".\n";
+  return o;
+}
+
+// Mean NNWA relative error over the subjects (true landmarks) with the given options; also
+// the mean number of base vertices that got 3D data.
+std::pair<double, double> mean_nnwa(const model::BaseMesh& base, const std::vector<Subject>& all,
+                                    const model::AdaptOptions& o) {
+  double e = 0, landmarks = 0;
+  for (const Subject& s : all) {
+    const model::AdaptResult r = model::adapt(base, s.data, o);
+    e += rel(r.mesh, s) / static_cast<double>(all.size());
+    landmarks += static_cast<double>(r.targets.vertices.size()) / static_cast<double>(all.size());
+  }
+  return {e, landmarks};
+}
+
+int run_accuracy(int subjects, const std::string& out_dir) {
+  if (subjects < 1) throw std::invalid_argument("accuracy: SUBJECTS must be >= 1");
   render::Renderer renderer;
   const model::BaseMesh base = model::base_mesh();
   std::vector<Subject> all;
-  for (int seed = 1; seed <= subjects; ++seed) all.push_back(make_subject(seed, renderer));
+  for (int seed = 0; seed < subjects; ++seed) all.push_back(make_subject(seed, renderer));
   nlohmann::json out;
-  for (const bool use_vision : {false, true}) {
-    nlohmann::json table = nlohmann::json::array();
-    double sum[4] = {0, 0, 0, 0};
-    int beats = 0, n = 0;
-    for (size_t i = 0; i < all.size(); ++i) {
-      Subject s = all[i];
-      if (use_vision && !s.vision_ok) {
-        table.push_back({{"subject", static_cast<int>(i) + 1}, {"error", s.vision_error}});
-        continue;
-      }
-      if (use_vision) s.data = s.vision_data;
-      model::AdaptOptions interp;
-      interp.method = model::AdaptMethod::Interpolate;
-      const double e[4] = {adapt_rel(base, s, {}), adapt_rel(base, s, interp),
-                           rel(model::procrustes_fit(base, s.data), s), rel(base.mesh, s)};
-      for (int m = 0; m < 4; ++m) sum[m] += e[m];
-      beats += e[0] < e[2];
-      ++n;
-      table.push_back({{"subject", static_cast<int>(i) + 1}, {"nnwa", e[0]},
-                       {"interpolate", e[1]}, {"procrustes", e[2]}, {"unadapted", e[3]}});
-    }
-    nlohmann::json& o = out[use_vision ? "landmarks_from_vision" : "landmarks_from_truth"];
-    o["per_subject_relative_error"] = table;
-    if (n > 0)
-      o["mean_relative_error"] = {{"nnwa", sum[0] / n}, {"interpolate", sum[1] / n},
-                                  {"procrustes", sum[2] / n}, {"unadapted", sum[3] / n}};
-    o["nnwa_below_procrustes"] = std::to_string(beats) + "/" + std::to_string(n);
-    o["reconstructed"] = std::to_string(n) + "/" + std::to_string(all.size());
-  }
+  std::string md = "## Reconstruction accuracy, ideal rig, seeds 0.." +
+                   std::to_string(subjects - 1) + " (model_bench accuracy)\n";
+  out["landmarks_from_truth"] = method_table(base, all, false, md);
+  out["landmarks_from_vision"] = method_table(base, all, true, md);
   std::vector<double> ks, k_err, counts, count_err;
+  md += "\n### NNWA vs k (true landmarks, mean relative error %)\n\n| k | NNWA |\n|---|---|\n";
   for (int k = 1; k <= 10; ++k) {
     model::AdaptOptions o;
     o.k = k;
-    double e = 0;
-    for (const Subject& s : all) e += adapt_rel(base, s, o) / subjects;
+    const double e = mean_nnwa(base, all, o).first;
     ks.push_back(k), k_err.push_back(e);
     out["k_sweep"].push_back({{"k", k}, {"nnwa", e}});
+    md += cv::format("| %d | %.4f |\n", k, 100 * e);
   }
+  md += "\n### NNWA vs named features used (true landmarks; silhouette and profile points "
+        "always used)\n\n| features | 3D points | NNWA % |\n|---|---|---|\n";
   for (size_t drop = 0; drop <= kDropOrder.size(); drop += 2) {
     model::AdaptOptions o;
     o.ignored_features.assign(kDropOrder.begin(), kDropOrder.begin() + drop);
-    double e = 0, landmarks = 0;
-    for (const Subject& s : all) {
-      const auto r = model::adapt(base, s.data, o);
-      e += rel(r.mesh, s) / subjects;
-      landmarks += static_cast<double>(r.targets.vertices.size()) / subjects;
-    }
+    const auto [e, landmarks] = mean_nnwa(base, all, o);
     const int features = static_cast<int>(kDropOrder.size() - drop);
     counts.insert(counts.begin(), features), count_err.insert(count_err.begin(), e);
-    out["landmark_sweep"].push_back({{"features", features}, {"landmarks_with_boundary", landmarks}, {"nnwa", e}});
+    out["landmark_sweep"].push_back(
+        {{"features", features}, {"landmarks_with_boundary", landmarks}, {"nnwa", e}});
+    md += cv::format("| %d | %.1f | %.4f |\n", features, landmarks, 100 * e);
   }
-  if (!plot.empty()) {
+  if (!out_dir.empty()) {
+    std::filesystem::create_directories(out_dir);
     cv::Mat img(420, 1000, CV_8UC3, cv::Scalar(255, 255, 255));
     draw_plot(img, {90, 40, 360, 300}, ks, k_err, "NNWA relative error vs k", "k neighbours");
     draw_plot(img, {590, 40, 360, 300}, counts, count_err, "NNWA relative error vs features",
               "named features used");
-    cv::imwrite(plot, img);
-    out["plot"] = plot;
+    const std::string png = out_dir + "/model_sweeps.png";
+    if (!cv::imwrite(png, img)) throw std::runtime_error("cannot write " + png);
+    std::ofstream(out_dir + "/model_accuracy.md") << md;
+    std::ofstream(out_dir + "/model_accuracy.json") << out.dump(2) << "\n";
+    out["plot"] = png;
   }
   std::cout << out.dump(2) << "\n";
+  std::cerr << md;
   return 0;
 }
 
@@ -281,12 +367,13 @@ int run_accuracy(int subjects, const std::string& plot) {
 
 int main(int argc, char** argv) {
   try {
-    const std::string mode = argc > 1 ? argv[1] : "speed";
-    if (mode == "speed") return run_speed();
+    const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "gen-base" && argc > 2) return run_gen_base(argv[2]);
     if (mode == "accuracy")
       return run_accuracy(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
-    std::cerr << "usage: model_bench speed | accuracy [SUBJECTS] [PLOT.png]\n";
+    if (mode.empty() || mode.rfind("--", 0) == 0) return run_benchmarks(argc, argv);
+    std::cerr << "usage: model_bench [--benchmark_...] | accuracy [SUBJECTS] [OUTDIR] | "
+                 "gen-base FILE.cpp\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -45,6 +45,10 @@ void AdaptOptions::check() const {
   if (k < 1) throw std::invalid_argument("AdaptOptions: k must be >= 1, got " + std::to_string(k));
   if (!(max_feature_shift_mm > 0))
     throw std::invalid_argument("AdaptOptions: max_feature_shift_mm must be > 0");
+  if (!(min_outlier_shift_mm > 0 && min_outlier_shift_mm <= max_feature_shift_mm))
+    throw std::invalid_argument(
+        "AdaptOptions: min_outlier_shift_mm must be in (0, max_feature_shift_mm]");
+  if (!(outlier_factor > 0)) throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
   if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0)
     throw std::invalid_argument("AdaptOptions: blend_rings, blend_iterations and "
                                 "max_fold_passes must be >= 0");

@@ -27,10 +27,12 @@ struct AdaptOptions {
                                      // silhouette data (the silhouette is the ear); < 0: use all
   double jaw_margin_mm = 5.0;        // slices this far below the mouth corners take no
                                      // silhouette data (it is the neck there); < 0: use all
-  double max_feature_shift_mm = 10;  // features farther from the aligned base are outliers
-                                     // (model_bench accuracy: 10 beats 15, 20 and 30 mm)
+  double max_feature_shift_mm = 30;  // features farther from the aligned base are outliers,
+  double outlier_factor = 3;         // ... and so are those farther than this times the
+  double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
-  void check() const;                // throws std::invalid_argument (k < 1, negative counts)
+  void check() const;                // throws std::invalid_argument (k < 1, negative counts,
+                                     // outlier limits not 0 < min <= max, factor <= 0)
 };
 
 // Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made

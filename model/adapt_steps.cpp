@@ -5,6 +5,7 @@
 #include <map>
 #include <queue>
 #include <set>
+#include <tuple>
 
 #include <Eigen/Geometry>
 
@@ -47,6 +48,20 @@ void add_boundary_targets(const BaseMesh& base, const std::vector<Eigen::Vector3
   }
 }
 
+// A feature farther from the aligned base than this is an outlier: outlier_factor times the
+// median distance of the observed features (how far this face is from the generic one),
+// clamped to [min_outlier_shift_mm, max_feature_shift_mm].
+template <typename Observed>
+double outlier_limit_mm(const Observed& observed, const AdaptOptions& options) {
+  if (observed.empty()) return options.max_feature_shift_mm;
+  std::vector<double> shifts;
+  for (const auto& o : observed) shifts.push_back(std::get<3>(o));
+  std::nth_element(shifts.begin(), shifts.begin() + shifts.size() / 2, shifts.end());
+  const double median = shifts[shifts.size() / 2];
+  return std::clamp(options.outlier_factor * median, options.min_outlier_shift_mm,
+                    options.max_feature_shift_mm);
+}
+
 }  // namespace
 
 LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
@@ -58,6 +73,7 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
   std::vector<std::pair<int, Eigen::Vector3d>> no_depth;
   const std::set<std::string> ignored(options.ignored_features.begin(),
                                       options.ignored_features.end());
+  std::vector<std::tuple<std::string, int, const StereoPoint*, double>> observed;  // + shift
   for (const auto& [name, v] : base.features) {
     const auto it = data.features.find(name);
     if (it == data.features.end() || ignored.count(name)) {
@@ -66,16 +82,21 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
       continue;
     }
     const Eigen::Vector3d shift = it->second.head_mm - aligned[v];
-    const double moved = it->second.has_depth ? shift.norm() : shift.head<2>().norm();
-    if (moved > options.max_feature_shift_mm) {  // an outlier of vision, not a face
+    observed.push_back({name, v, &it->second,
+                        it->second.has_depth ? shift.norm() : shift.head<2>().norm()});
+  }
+  const double limit = outlier_limit_mm(observed, options);
+  for (const auto& [name, v, point, moved] : observed) {
+    if (moved > limit) {  // an outlier of vision, not a face
       if (warnings)
         warnings->push_back("feature '" + name + "' is " + std::to_string(static_cast<int>(moved)) +
-                            " mm from the aligned base: ignored");
+                            " mm from the aligned base (limit " +
+                            std::to_string(static_cast<int>(limit)) + " mm): ignored");
       continue;
     }
     names[v] = name;
-    if (it->second.has_depth) t[v] = it->second.head_mm;
-    else no_depth.push_back({v, it->second.head_mm}), t.erase(v);
+    if (point->has_depth) t[v] = point->head_mm;
+    else no_depth.push_back({v, point->head_mm}), t.erase(v);
   }
   LandmarkTargets out;
   for (const auto& [v, p] : t) {

@@ -117,6 +117,31 @@ TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
   EXPECT_THROW(adapt(base, d, bad), std::invalid_argument);
 }
 
+TEST(Adapt, OutlierLimitFollowsTheMedianFeatureShift) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1.05, 0.95, 1.05}, {0, 0, 0}, 4.0);
+  s.observation.front.features["eye_right_inner"].px.x += 16;  // 10 mm: above 8 mm, far above
+                                                               // the other features' shifts
+  const StereoData d = stereo_match(s.observation, s.rig);
+  std::vector<std::string> dropped;
+  for (const auto& w : adapt(base, d).warnings)
+    if (w.find("from the aligned base") != std::string::npos) dropped.push_back(w);
+  ASSERT_EQ(dropped.size(), 1u);
+  EXPECT_NE(dropped[0].find("'eye_right_inner'"), std::string::npos) << dropped[0];
+  AdaptOptions loose;  // a limit of 12 mm keeps it
+  loose.min_outlier_shift_mm = 12;
+  for (const auto& w : adapt(base, d, loose).warnings)
+    EXPECT_EQ(w.find("from the aligned base"), std::string::npos) << w;
+  for (auto bad : {&AdaptOptions::outlier_factor, &AdaptOptions::min_outlier_shift_mm}) {
+    AdaptOptions o;
+    o.*bad = 0;
+    EXPECT_THROW(adapt(base, d, o), std::invalid_argument);
+  }
+  AdaptOptions above;
+  above.min_outlier_shift_mm = above.max_feature_shift_mm + 1;
+  EXPECT_THROW(adapt(base, d, above), std::invalid_argument);
+}
+
 TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
   const BaseMesh base = base_mesh();
   auto s = testing::synthetic_face({1.1, 0.9, 1.1}, {2, -3, 1});
