@@ -121,6 +121,7 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
                  render::Renderer& renderer) {
   render::SynthesisOptions so;
   so.background = options.background_bgr;
+  so.depth = false;  // the views are scored and written as images
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
     render::ViewSynthesizer synth(s.model->mesh, s.model->rig, s.model->front, s.model->side);

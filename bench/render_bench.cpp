@@ -38,13 +38,14 @@ model::TriMesh sim_head(int triangles) {
   return sim::make_head(sim::head_params(3), o).mesh;
 }
 
-void run(benchmark::State& state, const model::TriMesh& mesh, bool cached) {
+void run(benchmark::State& state, const model::TriMesh& mesh, bool cached,
+         const render::RenderOptions& options = {}) {
   render::Renderer renderer;
   const capture::CameraModel cam = view_camera();
-  renderer.render(mesh, cam);  // upload + warm-up
+  renderer.render(mesh, cam, options);  // upload + warm-up
   for (auto _ : state) {
     if (!cached) renderer.clear_cache();
-    benchmark::DoNotOptimize(renderer.render(mesh, cam).image.data);
+    benchmark::DoNotOptimize(renderer.render(mesh, cam, options).image.data);
   }
   state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["triangles"] = double(mesh.triangles.size());
@@ -61,10 +62,16 @@ void BM_TexturedEllipsoidReupload(benchmark::State& state) {
 void BM_TexturedSimHead(benchmark::State& state) {
   run(state, sim_head(int(state.range(0))), true);
 }
+// Image and mask only (RenderOptions::read_depth = false): what a preview or a video frame needs.
+void BM_TexturedSimHeadImageOnly(benchmark::State& state) {
+  render::RenderOptions o;
+  o.read_depth = false;
+  run(state, sim_head(int(state.range(0))), true, o);
+}
 
 // A 640x480 new view (yaw 30, pitch 10) of a sim head from its front / side photos, with source
-// visibility; arg 1 = pick, 2 = weighted, 3 = pick with per-vertex visibility; the mesh and
-// photos are uploaded once.
+// visibility; arg 1 = pick, 2 = weighted, 3 = pick with per-vertex visibility, 4 = pick reading
+// back the image and mask only (no depth); the mesh and photos are uploaded once.
 void BM_NewViewSimHead(benchmark::State& state) {
   const model::TriMesh head = sim_head(4000);
   const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.4);
@@ -78,6 +85,7 @@ void BM_NewViewSimHead(benchmark::State& state) {
   render::SynthesisOptions o;
   o.blend = state.range(0) == 2 ? render::Blend::Weighted : render::Blend::Pick;
   o.per_pixel_visibility = state.range(0) != 3;
+  o.depth = state.range(0) != 4;
   const capture::CameraModel cam = capture::camera_at(rig.front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
   synth.render(cam, o);
   for (auto _ : state) benchmark::DoNotOptimize(synth.render(cam, o).view.image.data);
@@ -184,7 +192,8 @@ BENCHMARK(BM_PlainLlvmpipeReference)->Arg(4000)->Unit(benchmark::kMillisecond)->
 BENCHMARK(BM_TexturedEllipsoid)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedEllipsoidReupload)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedSimHead)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_TexturedSimHeadImageOnly)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_NewViewWithNewPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_SetPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 

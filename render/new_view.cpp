@@ -189,6 +189,8 @@ struct ViewSynthesizer::Impl {
   void equalize_photos();
   void source_uniforms(GLuint prog);
   GLuint view_program(const SynthesisOptions& o);
+  RenderResult read_image_and_mask(int w, int h);
+  cv::Mat bgra;  // readback buffer, reused
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -341,6 +343,18 @@ GLuint ViewSynthesizer::Impl::view_program(const SynthesisOptions& o) {
   return p;
 }
 
+// Colour attachment 0 as BGR, and the mask from its alpha (1 where drawn, see render()).
+RenderResult ViewSynthesizer::Impl::read_image_and_mask(int w, int h) {
+  bgra.create(h, w, CV_8UC4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
+  RenderResult r;
+  cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
+  cv::extractChannel(bgra, r.mask, 3);
+  return r;
+}
+
 // Uniforms that depend only on the rig and the source depth maps.
 void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
   glUseProgram(prog);
@@ -433,11 +447,12 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
   glDrawBuffers(2, bufs);
   glViewport(0, 0, camera.width, camera.height);
+  // Alpha 0 on the background, 1 where the mesh is drawn: the mask without a depth readback.
   const float bg[4] = {float(o.background[2] / 255), float(o.background[1] / 255),
-                       float(o.background[0] / 255), 1.0f};
+                       float(o.background[0] / 255), 0.0f};
   const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
   glClearBufferfv(GL_COLOR, 0, bg);
-  glClearBufferfv(GL_COLOR, 1, zero);
+  if (o.source_weights) glClearBufferfv(GL_COLOR, 1, zero);
   glClearBufferfv(GL_DEPTH, 0, &one);
   glDrawBuffers(o.source_weights ? 2 : 1, bufs);
   const auto nf = gl::near_far(camera, m.mesh.lo, m.mesh.hi);
@@ -471,8 +486,11 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glBindVertexArray(0);
   }
   SynthesisResult r;
-  r.view = gl::read_result(camera.width, camera.height, nf,
-                           camera.projection == capture::Projection::Perspective);
+  if (o.depth)
+    r.view = gl::read_result(camera.width, camera.height, nf,
+                             camera.projection == capture::Projection::Perspective);
+  else
+    r.view = m.read_image_and_mask(camera.width, camera.height);
   if (o.source_weights) {
     r.weights.create(camera.height, camera.width, CV_8UC3);
     glReadBuffer(GL_COLOR_ATTACHMENT1);

@@ -26,6 +26,8 @@ struct SynthesisOptions {
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
   cv::Scalar background{0, 0, 0};      // BGR 0..255
   bool source_weights = false;         // also return per-pixel source weights (slower)
+  bool depth = true;                   // also read back view.depth_mm; false: left empty
+                                       // (image and mask only: less readback per frame)
   void check() const;                  // throws std::invalid_argument naming the bad field
 };
 

@@ -339,6 +339,23 @@ TEST(NewView, EqualizeGridSamplesTheMappingAndRejectsBadSizes) {
   EXPECT_THROW(detail::equalize_grid(m, 0, 257), std::invalid_argument);
 }
 
+TEST(NewView, WithoutDepthTheImageAndMaskAreTheSame) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 40, 10);
+  SynthesisOptions o;
+  o.background = cv::Scalar(10, 200, 30);
+  const RenderResult full = synth.render(cam, o).view;
+  o.depth = false;
+  const RenderResult lean = synth.render(cam, o).view;
+  EXPECT_TRUE(lean.depth_mm.empty());
+  ASSERT_FALSE(full.depth_mm.empty());
+  EXPECT_GT(cv::countNonZero(full.mask), 50000);
+  EXPECT_EQ(cv::countNonZero(full.mask != lean.mask), 0);
+  EXPECT_EQ(cv::norm(full.image, lean.image, cv::NORM_INF), 0.0);
+  EXPECT_EQ(lean.image.at<cv::Vec3b>(0, 0), cv::Vec3b(10, 200, 30));
+}
+
 TEST(NewView, MeshBehindThePerspectiveViewGivesAnEmptyImage) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
