@@ -2,11 +2,29 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
 namespace orthoface::vision {
+
+namespace {
+
+// Index of the first non-zero byte of p[0, n), n when none; skips zero bytes 8 at a time.
+int first_set(const uchar* p, int n) {
+  int c = 0;
+  for (; c + 8 <= n; c += 8) {
+    std::uint64_t w;
+    std::memcpy(&w, p + c, 8);
+    if (w) break;
+  }
+  while (c < n && !p[c]) ++c;
+  return c;
+}
+
+}  // namespace
 
 RowExtent row_extent(const cv::Mat& mask) {
   if (mask.empty() || mask.type() != CV_8U)
@@ -16,8 +34,7 @@ RowExtent row_extent(const cv::Mat& mask) {
   e.right.assign(mask.rows, -1);
   for (int r = 0; r < mask.rows; ++r) {
     const uchar* p = mask.ptr<uchar>(r);
-    int c = 0;
-    while (c < mask.cols && !p[c]) ++c;
+    const int c = first_set(p, mask.cols);
     if (c == mask.cols) continue;
     int d = mask.cols - 1;
     while (d > c && !p[d]) --d;
