@@ -58,15 +58,20 @@ Eigen::Vector3d unproject(const CameraModel& cam, int c, int r, double z) {
   return cam.cam_from_head.inverse() * Eigen::Vector3d(x, y, z);
 }
 
+// Pixels of a view rendered with source_weights whose colour is the front photo's alone.
+cv::Mat only_from_front(const SynthesisResult& r) {
+  cv::Mat front_weight;
+  cv::extractChannel(r.weights, front_weight, 0);
+  return (front_weight == 255) & r.view.mask;
+}
+
 TEST(NewView, ReproducesTheFrontPhotoAtYawZero) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   SynthesisOptions o;
   o.source_weights = true;
   const SynthesisResult r = synth.render(s.rig.front, o);
-  cv::Mat front_only;
-  cv::extractChannel(r.weights, front_only, 0);
-  front_only = (front_only == 255) & r.view.mask;
+  const cv::Mat front_only = only_from_front(r);
   EXPECT_GT(cv::countNonZero(front_only), 50000);
   EXPECT_GT(psnr(s.front, r.view.image, front_only), 45.0);  // same pixels, same camera
 }
@@ -287,9 +292,7 @@ TEST(NewView, KeptColourMatchFollowsTheMappingOfTheFirstPhotos) {
   SynthesisOptions o;
   o.source_weights = true;
   const SynthesisResult r = synth.render(s.rig.front, o);
-  cv::Mat front_only;
-  cv::extractChannel(r.weights, front_only, 0);
-  front_only = (front_only == 255) & r.view.mask;
+  const cv::Mat front_only = only_from_front(r);
   ASSERT_GT(cv::countNonZero(front_only), 10000);
   const cv::Mat expected = detail::equalized(front2, match, 0);
   cv::Mat diff;
