@@ -103,10 +103,9 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
   for (size_t j = 0; j < points.size(); ++j) {
     const Eigen::Vector3d& p = points[j];
     d2 = (lx - p.x()).square() + (ly - p.y()).square() + (lz - p.z()).square();
-    // Outwards from the nearest: neighbouring indices are mostly near in space (vertex order),
-    // so later offers are rejected by one comparison.
-    int nearest = 0;
-    d2.minCoeff(&nearest);
+    // Outwards from the previous point's nearest landmark: consecutive points and landmarks
+    // are mostly near in space (vertex order), so most offers are rejected by one comparison.
+    const int nearest = j > 0 ? best[0].second : 0;
     best.reset();
     for (int i = nearest; i < n; ++i) best.offer(d2[i], i);
     for (int i = nearest - 1; i >= 0; --i) best.offer(d2[i], i);
