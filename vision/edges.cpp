@@ -58,21 +58,14 @@ EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv:
   cv::Mat f;
   image(roi).convertTo(f, CV_32F);
   if (options.blur_sigma_px > 0) cv::GaussianBlur(f, f, cv::Size(), options.blur_sigma_px);
-  cv::Mat gx, gy, mag;
-  // Sobel 3x3 scaled by 1/8 so the gradient is in intensity units per pixel.
-  cv::Sobel(f, gx, CV_32F, 1, 0, 3, 0.125);
-  cv::Sobel(f, gy, CV_32F, 0, 1, 3, 0.125);
-  cv::magnitude(gx, gy, mag);
   EdgeImage e;
-  e.threshold = options.threshold_fraction * high_percentile(mag, long(image.total() - roi.area()));
-  if (roi.size() == image.size()) {
-    e.gx = gx, e.gy = gy, e.magnitude = mag;
-  } else {
-    for (cv::Mat* m : {&e.gx, &e.gy, &e.magnitude}) *m = cv::Mat::zeros(image.size(), CV_32F);
-    gx.copyTo(e.gx(roi));
-    gy.copyTo(e.gy(roi));
-    mag.copyTo(e.magnitude(roi));
-  }
+  e.origin = roi.tl();
+  // Sobel 3x3 scaled by 1/8 so the gradient is in intensity units per pixel.
+  cv::Sobel(f, e.gx, CV_32F, 1, 0, 3, 0.125);
+  cv::Sobel(f, e.gy, CV_32F, 0, 1, 3, 0.125);
+  cv::magnitude(e.gx, e.gy, e.magnitude);
+  e.threshold = options.threshold_fraction *
+                high_percentile(e.magnitude, long(image.total() - roi.area()));
   cv::compare(e.magnitude, e.threshold, e.edges, cv::CMP_GT);
   return e;
 }

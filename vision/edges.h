@@ -12,20 +12,23 @@ struct EdgeOptions {
 };
 
 // Sobel gradient and thresholded edges of one image (seed 004 §4).
+// The images cover a region of the source image whose top-left pixel is `origin` (the whole
+// image: origin (0, 0)); pixel (c, r) of gx is source pixel origin + (c, r).
 struct EdgeImage {
   cv::Mat gx, gy;      // CV_32F, d/dx and d/dy in intensity units per pixel
   cv::Mat magnitude;   // CV_32F
   cv::Mat edges;       // CV_8U, 255 where magnitude > threshold
   double threshold = 0.0;
+  cv::Point origin{0, 0};
 };
 
 // Edge image of a single-channel 8-bit or 32-bit float image. Throws std::invalid_argument on
 // an empty or multi-channel image.
 EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options = {});
 
-// Same, computed inside `roi` only (clipped to the image; the images keep the full size and are
-// zero outside it, and the threshold counts those pixels as zero-gradient ones). Throws
-// std::invalid_argument as above or when `roi` misses the image.
+// Same, computed inside `roi` only (clipped to the image): the images cover that region
+// (origin = its top-left) and the threshold counts the pixels outside it as zero-gradient ones.
+// Throws std::invalid_argument as above or when `roi` misses the image.
 EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv::Rect& roi);
 
 // Bilinear sample of a CV_32F image at (x, y) in pixel-centre coordinates (pixel (c, r) has

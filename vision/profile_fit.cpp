@@ -32,8 +32,9 @@ Hit search_normal(const EdgeImage& e, cv::Point2d p, cv::Point2d n, double range
   const double step = 0.5;
   const int m = int(std::ceil(range / step));
   std::vector<double> v(2 * m + 1);
+  const cv::Point2d start = p - cv::Point2d(e.origin);  // the edge images' own coordinates
   for (int i = -m; i <= m; ++i) {
-    const cv::Point2d q = p + (i * step) * n;
+    const cv::Point2d q = start + (i * step) * n;
     const double g = sample(e.gx, q.x, q.y) * n.x + sample(e.gy, q.x, q.y) * n.y;
     v[i + m] = polarity == 0 ? std::abs(g) : std::max(0.0, polarity * g);
   }
