@@ -151,6 +151,20 @@ cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options, int
   return filled;
 }
 
+YCrCb to_ycrcb(const cv::Vec3b& p) {
+  const double y = 0.299 * p[2] + 0.587 * p[1] + 0.114 * p[0];
+  const auto u8 = [](double v) { return cv::saturate_cast<uchar>(v); };
+  return {u8(y), u8((p[2] - y) * 0.713 + 128), u8((p[0] - y) * 0.564 + 128)};
+}
+
+float skin_likelihood(const YCrCb& s) {
+  // Distance from the centre of the classic skin box Cr 133..173, Cb 77..127, soft edges.
+  const float dcr = std::max(0.f, std::abs(s.cr - 153.f) - 20.f);
+  const float dcb = std::max(0.f, std::abs(s.cb - 102.f) - 25.f);
+  const float lum = s.luma < 40 ? (s.luma - 20.f) / 20.f : 1.f;
+  return std::clamp(1.f - (dcr + dcb) / 12.f, 0.f, 1.f) * std::clamp(lum, 0.f, 1.f);
+}
+
 cv::Mat skin_probability(const cv::Mat& bgr) {
   if (bgr.empty() || bgr.type() != CV_8UC3)
     throw std::invalid_argument("skin_probability: expected 8-bit BGR image");
@@ -160,13 +174,7 @@ cv::Mat skin_probability(const cv::Mat& bgr) {
   for (int r = 0; r < ycc.rows; ++r) {
     const cv::Vec3b* s = ycc.ptr<cv::Vec3b>(r);
     float* o = p.ptr<float>(r);
-    for (int c = 0; c < ycc.cols; ++c) {
-      // Distance from the centre of the classic skin box Cr 133..173, Cb 77..127, soft edges.
-      const float dcr = std::max(0.f, std::abs(s[c][1] - 153.f) - 20.f);
-      const float dcb = std::max(0.f, std::abs(s[c][2] - 102.f) - 25.f);
-      const float lum = s[c][0] < 40 ? (s[c][0] - 20.f) / 20.f : 1.f;
-      o[c] = std::clamp(1.f - (dcr + dcb) / 12.f, 0.f, 1.f) * std::clamp(lum, 0.f, 1.f);
-    }
+    for (int c = 0; c < ycc.cols; ++c) o[c] = skin_likelihood({s[c][0], s[c][1], s[c][2]});
   }
   return p;
 }

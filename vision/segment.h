@@ -29,4 +29,12 @@ cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options = {}
 // Skin-colour likelihood (CV_32F, 0..1) from YCrCb chroma (a wide Cr/Cb box).
 cv::Mat skin_probability(const cv::Mat& bgr);
 
+// One pixel's 8-bit YCrCb (ITU-R BT.601, as cv::COLOR_BGR2YCrCb) and its skin likelihood (the
+// per-pixel rule of skin_probability).
+struct YCrCb {
+  uchar luma, cr, cb;
+};
+YCrCb to_ycrcb(const cv::Vec3b& bgr);
+float skin_likelihood(const YCrCb& pixel);
+
 }  // namespace orthoface::vision
