@@ -349,9 +349,10 @@ int run_accuracy(int subjects, const std::string& out_dir) {
   if (!out_dir.empty()) {
     std::filesystem::create_directories(out_dir);
     cv::Mat img(420, 1000, CV_8UC3, cv::Scalar(255, 255, 255));
-    draw_plot(img, {90, 40, 360, 300}, ks, k_err, "NNWA relative error vs k", "k neighbours");
-    draw_plot(img, {590, 40, 360, 300}, counts, count_err, "NNWA relative error vs features",
-              "named features used");
+    draw_plot(img, {90, 40, 360, 300}, ks, k_err, "NNWA relative error vs k (true landmarks)",
+              "k neighbours");
+    draw_plot(img, {590, 40, 360, 300}, counts, count_err,
+              "NNWA relative error vs features (true landmarks)", "named features used");
     const std::string png = out_dir + "/model_sweeps.png";
     if (!cv::imwrite(png, img)) throw std::runtime_error("cannot write " + png);
     std::ofstream(out_dir + "/model_accuracy.md") << md;
