@@ -15,6 +15,7 @@
 #include "model/mesh_io.h"
 #include "model/mpeg4_features.h"
 #include "sim/head.h"
+#include "sim/scan.h"
 
 #ifdef ORTHOFACE_HAVE_CGAL
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
@@ -173,34 +174,68 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   return j;
 }
 
+// MPEG-4 point (or key vertex) -> the landmarks it is compared with (the first one present).
+const std::map<std::string, std::vector<std::string>> kTruthOf = {
+    {"9.3", {"nose_tip"}}, {"9.15", {"subnasale"}}, {"8.1", {"lip_upper"}},
+    {"8.2", {"lip_lower"}}, {"2.10", {"chin"}}, {"2.1", {"chin_bottom"}},
+    {"nasion", {"nose_bridge"}}, {"4.3", {"brow_left_center"}}, {"4.4", {"brow_right_center"}},
+    {"3.5", {"eye_left_center"}}, {"3.6", {"eye_right_center"}}, {"10.1", {"ear_left_top"}},
+    {"10.2", {"ear_right_top"}}, {"P1_ear_left", {"ear_left_tragus", "ear_left_helix"}},
+    {"P2_ear_right", {"ear_right_tragus", "ear_right_helix"}}};
+
+// Distance (mesh units) of each found point with a known landmark, keyed by point name.
+std::map<std::string, double> truth_errors(const model::TriMesh& mesh, const model::FeatureReport& r,
+                                           const std::map<std::string, Eigen::Vector3d>& landmarks) {
+  std::vector<std::pair<std::string, Eigen::Vector3d>> found;
+  for (const auto& p : r.points) found.push_back({p.name, p.position});
+  if (r.ear_left) {
+    found.push_back({"P1_ear_left", mesh.vertices[*r.ear_left]});
+    found.push_back({"P2_ear_right", mesh.vertices[*r.ear_right]});
+  }
+  std::map<std::string, double> err;
+  for (const auto& [name, pos] : found) {
+    const auto t = kTruthOf.find(name);
+    if (t == kTruthOf.end()) continue;
+    for (const auto& lm : t->second)
+      if (landmarks.count(lm)) {
+        err[name] = (pos - landmarks.at(lm)).norm();
+        break;
+      }
+  }
+  return err;
+}
+
+nlohmann::json features_vs_truth(const sim::Head& h, double& seconds) {
+  const auto t0 = Clock::now();
+  const model::FeatureReport r = model::mpeg4_features(h.mesh);
+  seconds = ms_since(t0) / 1000.0;
+  nlohmann::json j{{"mesh", h.name}, {"seconds", seconds}, {"points_found", r.points.size()}};
+  j["error"] = truth_errors(h.mesh, r, h.landmarks);
+  if (r.ear_left) j["left_ear_on_subject_left"] = h.mesh.vertices[*r.ear_left].x() > 0;
+  for (const auto& m : r.missing)
+    if (m.rfind("note:", 0) != 0) j["missing"].push_back(m);
+  return j;
+}
+
 nlohmann::json sim_features(int seeds) {
-  const std::map<std::string, std::string> truth = {
-      {"9.3", "nose_tip"}, {"9.15", "subnasale"}, {"8.1", "lip_upper"}, {"8.2", "lip_lower"},
-      {"2.10", "chin"}, {"2.1", "chin_bottom"}, {"nasion", "nose_bridge"},
-      {"4.3", "brow_left_center"}, {"4.4", "brow_right_center"}, {"3.5", "eye_left_center"},
-      {"3.6", "eye_right_center"}, {"10.1", "ear_left_top"}, {"10.2", "ear_right_top"}};
   std::map<std::string, std::vector<double>> err;
-  int ears_found = 0, ears_right_side = 0;
+  int ears_found = 0, ears_on_correct_side = 0;
   double secs = 0;
+  nlohmann::json rows = nlohmann::json::array();
   for (int s = 0; s < seeds; ++s) {
     sim::HeadOptions o;
     o.target_triangles = sim::HeadOptions::kHighTriangles;
-    const sim::Head h = sim::make_head(sim::head_params(s), o);
-    const auto t0 = Clock::now();
-    const model::FeatureReport r = model::mpeg4_features(h.mesh);
-    secs += ms_since(t0) / 1000.0;
-    if (r.ear_left) {
-      ++ears_found;
-      const Eigen::Vector3d l = h.mesh.vertices[*r.ear_left];
-      ears_right_side += l.x() > 0;
-      err["P1_ear_left_vs_tragus"].push_back((l - h.landmarks.at("ear_left_tragus")).norm());
-      err["P2_ear_right_vs_tragus"].push_back((h.mesh.vertices[*r.ear_right] - h.landmarks.at("ear_right_tragus")).norm());
-    }
-    for (const auto& p : r.points)
-      if (truth.count(p.name)) err[p.name].push_back((p.position - h.landmarks.at(truth.at(p.name))).norm());
+    double t = 0;
+    const nlohmann::json row = features_vs_truth(sim::make_head(sim::head_params(s), o), t);
+    secs += t;
+    ears_found += row.contains("left_ear_on_subject_left");
+    ears_on_correct_side += row.value("left_ear_on_subject_left", false);
+    for (const auto& [name, e] : row["error"].items()) err[name].push_back(e.get<double>());
+    rows.push_back(row);
   }
   nlohmann::json j{{"heads", seeds}, {"ears_found", ears_found},
-                   {"left_ear_on_subject_left", ears_right_side}, {"mean_seconds", secs / seeds}};
+                   {"left_ear_on_subject_left", ears_on_correct_side}, {"mean_seconds", secs / seeds},
+                   {"per_head", rows}};
   for (auto& [name, v] : err) {
     std::sort(v.begin(), v.end());
     double mean = 0;
@@ -210,27 +245,48 @@ nlohmann::json sim_features(int seeds) {
   return j;
 }
 
-nlohmann::json scan_features(const std::string& path) {
-  nlohmann::json j{{"mesh", path}};
-  try {
-    const model::TriMesh m = model::read_mesh(path);
-    const auto t0 = Clock::now();
-    const model::FeatureReport r = model::mpeg4_features(m);
-    j["seconds"] = ms_since(t0) / 1000.0;
-    for (const auto& p : r.points) j["points"][p.name] = {p.position.x(), p.position.y(), p.position.z()};
-    j["missing"] = r.missing;
+// Nefertiti (nefertiti-lowres.obj: units mm, +y up, face toward +z, subject's left +x, head
+// tilted forward): reference vertices picked on the file, 0-based in file order. nose_tip: the
+// front-most (max z) vertex of the nose, 6 mm below the tip seen perpendicular to the face line;
+// ear helix: the most lateral (max |x|) vertex 40 mm below to 30 mm above the nose, 20..90 mm
+// back in z, i.e. the outer rim of each ear (10..20 mm from an ear's centre).
+const std::map<std::string, int> kNefertitiPicks = {
+    {"nose_tip", 33416}, {"ear_left_helix", 33556}, {"ear_right_helix", 34097}};
+
+nlohmann::json scan_features(const std::string& data) {
+  nlohmann::json out = nlohmann::json::array();
+  try {  // landmarks picked on the texture and from the profile (sim/scan.cpp), mesh in mm
+    double t = 0;
+    out.push_back(features_vs_truth(sim::lee_perry_smith_head(data + "/lee_perry_smith_head"), t));
   } catch (const std::exception& e) {
-    j["skipped"] = e.what();
+    out.push_back({{"mesh", "Lee Perry-Smith"}, {"skipped", e.what()}});
   }
-  return j;
+  try {
+    sim::Head h;
+    h.mesh = model::read_mesh(data + "/nefertiti_scan/nefertiti-lowres.obj");
+    h.name = "Nefertiti scan";
+    for (const auto& [name, v] : kNefertitiPicks) h.landmarks[name] = h.mesh.vertices.at(v);
+    double t = 0;
+    out.push_back(features_vs_truth(h, t));
+  } catch (const std::exception& e) {
+    out.push_back({{"mesh", "Nefertiti"}, {"skipped", e.what()}});
+  }
+  return out;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const bool quick = argc > 1 && !std::strcmp(argv[1], "--quick");
+  const bool features_only = argc > 1 && !std::strcmp(argv[1], "--features");
   const std::string data = ORTHOFACE_DATA_DIR;
   nlohmann::json out;
+  if (features_only) {
+    out["scan_features"] = scan_features(data);
+    out["sim_features"] = sim_features(argc > 2 ? std::atoi(argv[2]) : 20);
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+  }
   // Seed 000 Tables 1-3 sizes (target triangles ~ 2 x vertices on a closed head).
   std::vector<int> sizes = {550, 725, 794, 900, 1073, 1760, 10000};
   if (!quick) sizes.push_back(50000);
@@ -246,8 +302,7 @@ int main(int argc, char** argv) {
       scan_accuracy("lee_perry_smith", data + "/lee_perry_smith_head/LeePerrySmith.obj"),
       scan_accuracy("nefertiti", data + "/nefertiti_scan/nefertiti-lowres.obj")};
   out["sim_features"] = sim_features(quick ? 3 : 20);
-  out["scan_features"] = {scan_features(data + "/lee_perry_smith_head/LeePerrySmith.obj"),
-                          scan_features(data + "/nefertiti_scan/nefertiti-lowres.obj")};
+  out["scan_features"] = scan_features(data);
   std::printf("%s\n", out.dump(2).c_str());
   return 0;
 }

@@ -15,14 +15,17 @@ struct LocalFrame {
   double ear_distance = 0.0;
 };
 
-// One profile sample: vertex, height along `up`, depth along `forward` (both from the origin).
+// One profile sample: the surface point, its nearer mesh vertex, and its height along `up` and
+// depth along `forward` (both from the origin).
 struct ProfileSample {
   int vertex;
   double s, f;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
 };
 
-// Outermost (max f) vertex per height bin of the vertices within `band` of the plane
-// left . (p - origin) = offset, front half only (f > 0), sorted by height.
+// The section of the mesh by the plane left . (p - origin) = offset: its outermost (max f)
+// point per height bin of width `band` (with the nearer vertex of the crossing edge), front half
+// only (f > 0), sorted by height.
 std::vector<ProfileSample> plane_profile(const TriMesh& mesh, const LocalFrame& frame,
                                          double offset, double band);
 

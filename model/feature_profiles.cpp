@@ -11,16 +11,23 @@ namespace orthoface::model::detail {
 
 std::vector<ProfileSample> plane_profile(const TriMesh& mesh, const LocalFrame& frame,
                                          double offset, double band) {
+  // The mesh's section by the plane: where each triangle edge crosses it (a band of vertices
+  // would miss the surface wherever triangles are longer than the band, as on a scan's lips).
   std::map<long, ProfileSample> bins;  // outermost sample per height bin of width `band`
-  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
-    const Eigen::Vector3d q = mesh.vertices[v] - frame.origin;
-    if (std::abs(q.dot(frame.left) - offset) > band) continue;
-    const ProfileSample p{int(v), q.dot(frame.up), q.dot(frame.forward)};
-    if (p.f <= 0.0) continue;
-    const long bin = long(std::floor(p.s / band));
-    auto it = bins.find(bin);
-    if (it == bins.end() || p.f > it->second.f) bins[bin] = p;
-  }
+  auto height = [&](int v) { return (mesh.vertices[v] - frame.origin).dot(frame.left) - offset; };
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[k], b = t[(k + 1) % 3];
+      const double ha = height(a), hb = height(b);
+      if ((ha > 0.0) == (hb > 0.0) || ha == hb) continue;
+      const double w = ha / (ha - hb);
+      const Eigen::Vector3d q = (1.0 - w) * mesh.vertices[a] + w * mesh.vertices[b] - frame.origin;
+      const ProfileSample p{w < 0.5 ? a : b, q.dot(frame.up), q.dot(frame.forward), q + frame.origin};
+      if (p.f <= 0.0) continue;
+      const long bin = long(std::floor(p.s / band));
+      auto it = bins.find(bin);
+      if (it == bins.end() || p.f > it->second.f) bins[bin] = p;
+    }
   std::vector<ProfileSample> out;
   for (const auto& [bin, p] : bins) out.push_back(p);
   return out;  // unsmoothed: the lips' trough is only ~1 % of the ear distance deep
@@ -58,6 +65,14 @@ void add_point(const TriMesh& mesh, FeatureReport& r, const std::string& name, i
   r.points.push_back(p);
 }
 
+// A point on a profile: at the section point itself (a coarse mesh's nearest vertex may be
+// several mm off the plane).
+void add_point(const TriMesh& mesh, FeatureReport& r, const std::string& name,
+               const ProfileSample& sample, const std::string& helper_description = "") {
+  add_point(mesh, r, name, sample.vertex, helper_description);
+  r.points.back().position = sample.point;
+}
+
 // First extremum of the given kind strictly below (down = true) or above height s0, nearest
 // first, within max_gap of s0.
 std::optional<int> next_extremum(const std::vector<ProfileSample>& prof,
@@ -72,13 +87,17 @@ std::optional<int> next_extremum(const std::vector<ProfileSample>& prof,
   return best;
 }
 
+// Smallest rise / drop on both sides of a mid-plane peak or trough, x D: above scan noise on
+// the nose and lips (~0.5 % of D), below the shallowest real trough (the lips', ~1 %).
+constexpr double kMidlineProminence = 0.005;
+
 void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions& o,
                     FeatureReport& r) {
   const double D = fr.ear_distance;
   const auto prof = plane_profile(mesh, fr, 0.0, o.plane_band * D);
   const double s_nose = (mesh.vertices[*r.nose_tip] - fr.origin).dot(fr.up);
-  const auto peaks = profile_extrema(prof, true, 0.005 * D);
-  const auto troughs = profile_extrema(prof, false, 0.005 * D);
+  const auto peaks = profile_extrema(prof, true, kMidlineProminence * D);
+  const auto troughs = profile_extrema(prof, false, kMidlineProminence * D);
   // Downward from the nose tip: subnasale, upper lip, stomion, lower lip, sulcus, chin boss.
   struct Step { const char* name; bool peak; const char* helper; };
   const Step steps[] = {{"9.15", false, ""}, {"8.1", true, ""}, {"2.2", false, ""},
@@ -92,7 +111,7 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
                           " on the mid-plane profile below the previous point");
       return;
     }
-    add_point(mesh, r, st.name, prof[*i].vertex, st.helper);
+    add_point(mesh, r, st.name, prof[*i], st.helper);
     s = prof[*i].s;
   }
   // 2.1 bottom of the chin: the chin point furthest along (forward - up), below the chin boss.
@@ -101,10 +120,10 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
     if (prof[i].s < s && prof[i].s > s - 0.3 * D &&
         (!bottom || prof[i].f - prof[i].s > prof[*bottom].f - prof[*bottom].s))
       bottom = int(i);
-  if (bottom) add_point(mesh, r, "2.1", prof[*bottom].vertex);
+  if (bottom) add_point(mesh, r, "2.1", prof[*bottom]);
   else r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
   const auto nasion = next_extremum(prof, troughs, s_nose, false, 0.4 * D);
-  if (nasion) add_point(mesh, r, "nasion", prof[*nasion].vertex, "deepest point between the eyes (helper)");
+  if (nasion) add_point(mesh, r, "nasion", prof[*nasion], "deepest point between the eyes (helper)");
   else r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
 }
 
@@ -114,7 +133,13 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
   const double D = fr.ear_distance;
   // The plane halfway between the mid-plane and the ear (seed 000 §VI.H).
   const auto prof = plane_profile(mesh, fr, side * 0.25 * D, o.plane_band * D);
-  const double s_nose = (mesh.vertices[*r.nose_tip] - fr.origin).dot(fr.up);
+  const Eigen::Vector3d tip = mesh.vertices[*r.nose_tip] - fr.origin;
+  const double s_nose = tip.dot(fr.up);
+  // Brow, eye and cheek lie less than 0.3 D behind the nose tip; farther samples are the side of
+  // the head showing through a face-line frame tilted back.
+  std::vector<int> troughs;
+  for (int i : profile_extrema(prof, false, 0.005 * D))
+    if (prof[i].f > tip.dot(fr.forward) - 0.3 * D) troughs.push_back(i);
   std::optional<int> b;
   for (size_t i = 0; i < prof.size(); ++i)
     if (prof[i].s > s_nose && prof[i].s < s_nose + 0.45 * D && (!b || prof[i].f > prof[*b].f))
@@ -123,20 +148,22 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
     r.missing.push_back(brow + ", " + eye + ", " + cheek + ": side-plane profile is empty");
     return;
   }
-  add_point(mesh, r, brow, prof[*b].vertex);
+  add_point(mesh, r, brow, prof[*b]);
+  // The eye: the deepest trough between the brow and the nose tip's height (a trough, not just
+  // the lowest sample: below the eye the cheek may recede further in a tilted frame).
   std::optional<int> e;
-  for (size_t i = 0; i < prof.size(); ++i)
-    if (prof[i].s < prof[*b].s && prof[i].s > s_nose && (!e || prof[i].f < prof[*e].f)) e = int(i);
-  if (!e || prof[*b].f - prof[*e].f < 0.005 * D) {
+  for (int i : troughs)
+    if (prof[i].s < prof[*b].s && prof[i].s > s_nose && (!e || prof[i].f < prof[*e].f)) e = i;
+  if (!e) {
     r.missing.push_back(eye + ", " + cheek + ": no trough below the brow on the side plane");
     return;
   }
-  add_point(mesh, r, eye, prof[*e].vertex);
+  add_point(mesh, r, eye, prof[*e]);
   std::optional<int> c;
   for (size_t i = 0; i < prof.size(); ++i)
     if (prof[i].s < prof[*e].s && prof[i].s > s_nose - 0.2 * D && (!c || prof[i].f > prof[*c].f))
       c = int(i);
-  if (c && prof[*c].f - prof[*e].f > 0.005 * D) add_point(mesh, r, cheek, prof[*c].vertex);
+  if (c && prof[*c].f - prof[*e].f > 0.005 * D) add_point(mesh, r, cheek, prof[*c]);
   else r.missing.push_back(cheek + ": no peak below the eye on the side plane");
 }
 

@@ -19,6 +19,7 @@ void FeatureOptions::check() const {
   if (!(neighbourhood > 0.0 && neighbourhood < 0.5)) bad("neighbourhood", neighbourhood);
   if (!(ratio_threshold > 1.0 && ratio_threshold < ratio_cap)) bad("ratio_threshold", ratio_threshold);
   if (!(ratio_cap > 1.0 && ratio_cap <= 20.0)) bad("ratio_cap", ratio_cap);
+  if (!(dense_area > 0.0 && dense_area < 0.5)) bad("dense_area", dense_area);
   if (max_sources < 10) bad("max_sources", max_sources);
   if (!(plane_band > 0.0 && plane_band < 0.5)) bad("plane_band", plane_band);
 }

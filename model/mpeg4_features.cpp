@@ -2,6 +2,7 @@
 // MPEG-4 feature points of a head mesh, independent of its pose and scale.
 #include "model/mpeg4_features.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -35,25 +36,70 @@ std::vector<double> vertex_areas(const TriMesh& m) {
   return a;
 }
 
+// Vertices bucketed in cubes of side `cell` for radius queries (radius <= cell).
+class PointGrid {
+ public:
+  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, const std::vector<int>& subset)
+      : points_(points), cell_(cell) {
+    for (int v : subset) cells_[key(points[v])].push_back(v);
+  }
+  // Calls f(u) for every stored vertex within `radius` of p.
+  template <class F>
+  void for_each_near(const Eigen::Vector3d& p, double radius, F&& f) const {
+    const auto [kx, ky, kz] = key(p);
+    for (long dx = -1; dx <= 1; ++dx)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dz = -1; dz <= 1; ++dz) {
+          const auto it = cells_.find({kx + dx, ky + dy, kz + dz});
+          if (it == cells_.end()) continue;
+          for (int u : it->second)
+            if ((points_[u] - p).norm() <= radius) f(u);
+        }
+  }
+  // Nearest stored vertex within `radius` of p, or -1.
+  int nearest(const Eigen::Vector3d& p, double radius) const {
+    int best = -1;
+    double best_d = radius;
+    for_each_near(p, radius, [&](int u) {
+      const double d = (points_[u] - p).norm();
+      if (d <= best_d) best_d = d, best = u;
+    });
+    return best;
+  }
+
+ private:
+  using Key = std::tuple<long, long, long>;
+  Key key(const Eigen::Vector3d& p) const {
+    return {long(std::floor(p.x() / cell_)), long(std::floor(p.y() / cell_)),
+            long(std::floor(p.z() / cell_))};
+  }
+  const std::vector<Eigen::Vector3d>& points_;
+  double cell_;
+  std::map<Key, std::vector<int>> cells_;
+};
+
+std::vector<int> all_vertices(const TriMesh& m) {
+  std::vector<int> v(m.vertices.size());
+  std::iota(v.begin(), v.end(), 0);
+  return v;
+}
+
 // Groups of vertices with ratio >= t joined when closer than `gap` (z_clusters), heaviest
 // first; mass = sum of (ratio - 1) x vertex area. The gap lets one ear stay one cluster when its
-// dense rim is broken.
+// dense rim is broken into several folds (helix, antihelix, the groove behind the ear).
 std::vector<Cluster> dense_clusters(const TriMesh& m, const std::vector<double>& ratio, double t,
                                     double gap) {
   const auto area = vertex_areas(m);
-  std::map<std::tuple<long, long, long>, std::vector<int>> grid;
-  auto key = [&](const Eigen::Vector3d& p) {
-    return std::make_tuple(long(std::floor(p.x() / gap)), long(std::floor(p.y() / gap)),
-                           long(std::floor(p.z() / gap)));
-  };
+  std::vector<int> dense;
   for (size_t v = 0; v < m.vertices.size(); ++v)
-    if (ratio[v] >= t) grid[key(m.vertices[v])].push_back(int(v));
+    if (ratio[v] >= t) dense.push_back(int(v));
+  const PointGrid grid(m.vertices, gap, dense);
   std::vector<int> seen(m.vertices.size(), 0);
   std::vector<Cluster> out;
-  for (size_t s = 0; s < m.vertices.size(); ++s) {
-    if (seen[s] || ratio[s] < t) continue;
+  for (int s : dense) {
+    if (seen[s]) continue;
     Cluster c;
-    std::vector<int> stack{int(s)};
+    std::vector<int> stack{s};
     seen[s] = 1;
     while (!stack.empty()) {
       const int v = stack.back();
@@ -61,16 +107,9 @@ std::vector<Cluster> dense_clusters(const TriMesh& m, const std::vector<double>&
       c.vertices.push_back(v);
       const double w = (ratio[v] - 1.0) * area[v];
       c.mass += w, c.centroid += w * m.vertices[v];
-      const auto [kx, ky, kz] = key(m.vertices[v]);
-      for (long dx = -1; dx <= 1; ++dx)
-        for (long dy = -1; dy <= 1; ++dy)
-          for (long dz = -1; dz <= 1; ++dz) {
-            const auto it = grid.find({kx + dx, ky + dy, kz + dz});
-            if (it == grid.end()) continue;
-            for (int u : it->second)
-              if (!seen[u] && (m.vertices[u] - m.vertices[v]).norm() <= gap)
-                seen[u] = 1, stack.push_back(u);
-          }
+      grid.for_each_near(m.vertices[v], gap, [&](int u) {
+        if (!seen[u]) seen[u] = 1, stack.push_back(u);
+      });
     }
     if (c.mass > 0.0) c.centroid /= c.mass;
     out.push_back(std::move(c));
@@ -79,44 +118,25 @@ std::vector<Cluster> dense_clusters(const TriMesh& m, const std::vector<double>&
   return out;
 }
 
+// The ratio above which `fraction` of the surface area lies: a threshold that does not depend on
+// where the mesh is finely tessellated (a scan's face often has most of its vertices).
+double top_area_ratio(const TriMesh& m, const std::vector<double>& ratio, double fraction) {
+  const auto area = vertex_areas(m);
+  std::vector<int> order(ratio.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return ratio[a] > ratio[b]; });
+  const double total = std::accumulate(area.begin(), area.end(), 0.0);
+  double sum = 0.0;
+  for (int v : order)
+    if ((sum += area[v]) >= fraction * total) return ratio[v];
+  return ratio[order.back()];
+}
+
 int nearest_vertex(const TriMesh& m, const std::vector<int>& among, const Eigen::Vector3d& p) {
   int best = among.front();
   for (int v : among)
     if ((m.vertices[v] - p).squaredNorm() < (m.vertices[best] - p).squaredNorm()) best = v;
   return best;
-}
-
-// Mean point-to-tangent-plane distance from mirrored sample vertices to the nearest vertex,
-// / d (seed 000: the face is symmetric). The tangent plane removes the vertex-spacing floor.
-double mirror_error(const TriMesh& m, const std::vector<Eigen::Vector3d>& normals,
-                    const Eigen::Vector3d& n, const Eigen::Vector3d& o, double d) {
-  const double cell = 0.04 * d;
-  std::map<std::tuple<long, long, long>, std::vector<int>> grid;
-  auto key = [&](const Eigen::Vector3d& p) {
-    return std::make_tuple(long(std::floor(p.x() / cell)), long(std::floor(p.y() / cell)),
-                           long(std::floor(p.z() / cell)));
-  };
-  for (size_t v = 0; v < m.vertices.size(); ++v) grid[key(m.vertices[v])].push_back(int(v));
-  const size_t step = std::max<size_t>(1, m.vertices.size() / 400);
-  double sum = 0.0;
-  int count = 0;
-  for (size_t v = 0; v < m.vertices.size(); v += step) {
-    const Eigen::Vector3d p = m.vertices[v], q = p - 2.0 * n.dot(p - o) * n;
-    double best = cell;  // capped: farther than one cell counts as one cell
-    int at = -1;
-    const auto [kx, ky, kz] = key(q);
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find({kx + dx, ky + dy, kz + dz});
-          if (it == grid.end()) continue;
-          for (int u : it->second)
-            if ((m.vertices[u] - q).norm() < best) best = (m.vertices[u] - q).norm(), at = u;
-        }
-    if (at >= 0) best = std::abs(normals[at].dot(q - m.vertices[at]));
-    sum += best, ++count;
-  }
-  return sum / count / d;
 }
 
 std::vector<Eigen::Vector3d> area_normals(const TriMesh& m) {
@@ -130,31 +150,106 @@ std::vector<Eigen::Vector3d> area_normals(const TriMesh& m) {
   return n;
 }
 
-// The ear pair (seed 000 §VI.G): two heavy, similar clusters far apart whose bisecting plane
-// is a mirror plane of the mesh.
-std::optional<std::pair<int, int>> ear_pair(const TriMesh& m, const std::vector<Cluster>& cl,
-                                            double diag, double& sym_error) {
+// A candidate mirror plane n.(p - o) = 0 and its error (mean mirror distance / d).
+struct MirrorPlane {
+  Eigen::Vector3d n, o;
+  double error = 1.0;
+};
+
+// Mirror symmetry of the whole mesh (seed 000: the face is symmetric), tested on ~400 sample
+// vertices against the vertex nearest to each mirror image.
+class MirrorTest {
+ public:
+  MirrorTest(const TriMesh& m, double d)
+      : m_(m), d_(d), grid_(m.vertices, 0.1 * d, all_vertices(m)), normals_(area_normals(m)) {
+    const size_t step = std::max<size_t>(1, m.vertices.size() / 400);
+    for (size_t v = 0; v < m.vertices.size(); v += step) samples_.push_back(int(v));
+  }
+
+  // Mean point-to-tangent-plane distance from the mirrored samples to their nearest vertex, / d;
+  // a mirror image farther than 0.04 d from the mesh counts as 0.04. The tangent plane removes
+  // the vertex-spacing floor.
+  double error(const Eigen::Vector3d& n, const Eigen::Vector3d& o) const {
+    const double cap = 0.04 * d_;
+    double sum = 0.0;
+    for (int v : samples_) {
+      const Eigen::Vector3d q = reflect(m_.vertices[v], n, o);
+      const int u = grid_.nearest(q, cap);
+      sum += u < 0 ? cap : std::min(cap, std::abs(normals_[u].dot(q - m_.vertices[u])));
+    }
+    return sum / double(samples_.size()) / d_;
+  }
+
+  // Reflective ICP: pairs each sample with the vertex nearest to its mirror image (within
+  // `reach` x d) and refits the plane to the pairs' midpoints, a few rounds with a shrinking
+  // reach. Corrects a plane bisecting two real, slightly asymmetric ears.
+  MirrorPlane refine(Eigen::Vector3d n, Eigen::Vector3d o) const {
+    for (double reach : {0.08, 0.05, 0.03, 0.03, 0.02}) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      std::vector<Eigen::Vector3d> mids;
+      for (int v : samples_) {
+        const Eigen::Vector3d p = m_.vertices[v];
+        const int u = grid_.nearest(reflect(p, n, o), reach * d_);
+        if (u < 0) continue;
+        mids.push_back(0.5 * (p + m_.vertices[u]));
+        mean += mids.back();
+      }
+      if (mids.size() < 20) break;
+      mean /= double(mids.size());
+      Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+      for (const auto& c : mids) cov += (c - mean) * (c - mean).transpose();
+      const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(cov);
+      Eigen::Vector3d next = es.eigenvectors().col(0);  // the flattest direction of the midpoints
+      if (next.dot(n) < 0.0) next = -next;
+      if (next.dot(n) < 0.9) break;  // not a small correction: keep the plane as it was
+      n = next, o = mean;
+    }
+    return {n, o, error(n, o)};
+  }
+
+  static Eigen::Vector3d reflect(const Eigen::Vector3d& p, const Eigen::Vector3d& n,
+                                 const Eigen::Vector3d& o) {
+    return p - 2.0 * n.dot(p - o) * n;
+  }
+
+ private:
+  const TriMesh& m_;
+  double d_;
+  PointGrid grid_;
+  std::vector<Eigen::Vector3d> normals_;
+  std::vector<int> samples_;
+};
+
+// The ear pair (seed 000 §VI.G): the two clusters of similar mass, far apart, that are mirror
+// images of each other under a mirror plane of the whole mesh; the farthest, heaviest such pair.
+// Returns the pair and the refined symmetry plane.
+std::optional<std::pair<std::pair<int, int>, MirrorPlane>> ear_pair(const TriMesh& m,
+                                                                    const std::vector<Cluster>& cl,
+                                                                    double diag) {
   struct Cand { double score; int a, b; };
   std::vector<Cand> cands;
-  const size_t top = std::min<size_t>(cl.size(), 15);
+  const size_t top = std::min<size_t>(cl.size(), 20);
   for (size_t a = 0; a < top; ++a)
     for (size_t b = a + 1; b < top; ++b) {
       const double lo = std::min(cl[a].mass, cl[b].mass), hi = std::max(cl[a].mass, cl[b].mass);
       const double d = (cl[a].centroid - cl[b].centroid).norm();
-      if (lo < 0.25 * hi || lo < 0.02 * cl[0].mass || d < 0.15 * diag) continue;
+      if (lo < 0.3 * hi || lo < 0.02 * cl[0].mass || d < 0.15 * diag) continue;
       cands.push_back({d * std::sqrt(lo), int(a), int(b)});
     }
   std::sort(cands.begin(), cands.end(), [](const Cand& x, const Cand& y) { return x.score > y.score; });
-  std::optional<std::pair<int, int>> best;
-  sym_error = 1.0;
-  const auto normals = area_normals(m);
-  for (size_t k = 0; k < cands.size() && k < 8; ++k) {
-    const Eigen::Vector3d pa = cl[cands[k].a].centroid, pb = cl[cands[k].b].centroid;
+  const MirrorTest test(m, 0.3 * diag);
+  int refined = 0;
+  for (const Cand& c : cands) {
+    const Eigen::Vector3d pa = cl[c.a].centroid, pb = cl[c.b].centroid;
     const double d = (pb - pa).norm();
-    const double e = mirror_error(m, normals, (pb - pa) / d, 0.5 * (pa + pb), d);
-    if (e < 0.02 && e < sym_error) sym_error = e, best = std::make_pair(cands[k].a, cands[k].b);
+    const Eigen::Vector3d n = (pb - pa) / d, o = 0.5 * (pa + pb);
+    if (test.error(n, o) > 0.06 || ++refined > 12) continue;  // far from any mirror plane
+    const MirrorPlane plane = test.refine(n, o);
+    // The pair must map onto itself under the refined plane, and the mesh onto itself.
+    const double miss = (MirrorTest::reflect(pa, plane.n, plane.o) - pb).norm();
+    if (plane.error < 0.02 && miss < 0.12 * d) return std::make_pair(std::make_pair(c.a, c.b), plane);
   }
-  return best;
+  return std::nullopt;
 }
 
 // Forward direction: from P3 to the heaviest cluster on the bisecting plane (eyes, nose, lips).
@@ -163,7 +258,9 @@ std::optional<Eigen::Vector3d> face_direction(const std::vector<Cluster>& cl, in
   for (size_t c = 0; c < cl.size(); ++c) {
     if (int(c) == ea || int(c) == eb) continue;
     const Eigen::Vector3d q = cl[c].centroid - fr.origin;
-    if (std::abs(q.dot(fr.left)) > 0.15 * fr.ear_distance || q.norm() < 0.3 * fr.ear_distance)
+    // The face lies within ~0.85 D of P3; a crown, hat brim or bust base is farther.
+    if (std::abs(q.dot(fr.left)) > 0.15 * fr.ear_distance || q.norm() < 0.3 * fr.ear_distance ||
+        q.norm() > 1.0 * fr.ear_distance)
       continue;
     const Eigen::Vector3d f = q - q.dot(fr.left) * fr.left;
     if (f.norm() > 0.0) return f.normalized();
@@ -171,23 +268,31 @@ std::optional<Eigen::Vector3d> face_direction(const std::vector<Cluster>& cl, in
   return std::nullopt;
 }
 
-// Seed 000 §VI.H line Delta: the line touching the mid-plane profile above and below the nose
-// (brow and chin side). Up becomes Delta's direction and forward its normal toward the nose,
-// so peaks and troughs are measured from the face line rather than from the tilted ear-nose axis.
-void face_line_frame(const TriMesh& m, const FeatureOptions& o, LocalFrame& fr, int nose) {
-  const auto prof = detail::plane_profile(m, fr, 0.0, o.plane_band * fr.ear_distance);
-  const Eigen::Vector3d q = m.vertices[nose] - fr.origin;
-  const double st = q.dot(fr.up), ft = q.dot(fr.forward), reach = 0.7 * fr.ear_distance;
+// Seed 000 §VI.H line Delta for profile sample c: the points where the lines from c touch the
+// profile above and below it (0.05-0.7 D away), i.e. c's neighbours on the profile's convex hull
+// (brow and chin side for the nose tip). Null when a side is empty.
+std::pair<const detail::ProfileSample*, const detail::ProfileSample*> delta_line(
+    const std::vector<detail::ProfileSample>& prof, const detail::ProfileSample& c, double D) {
   const detail::ProfileSample* above = nullptr;
   const detail::ProfileSample* below = nullptr;
   double best_a = 1e300, best_b = 1e300;
   for (const auto& p : prof) {
-    const double ds = p.s - st;
-    if (std::abs(ds) < 0.05 * fr.ear_distance || std::abs(ds) > reach) continue;
-    const double slope = (ft - p.f) / std::abs(ds);  // smallest: the tangent from the tip
+    const double ds = p.s - c.s;
+    if (std::abs(ds) < 0.05 * D || std::abs(ds) > 0.7 * D) continue;
+    const double slope = (c.f - p.f) / std::abs(ds);  // smallest: the tangent from c
     if (ds > 0 && slope < best_a) best_a = slope, above = &p;
     if (ds < 0 && slope < best_b) best_b = slope, below = &p;
   }
+  return {above, below};
+}
+
+// Up becomes the direction of the nose tip's line Delta and forward its normal toward the nose,
+// so peaks and troughs are measured from the face line rather than from the tilted ear-nose axis.
+void face_line_frame(const TriMesh& m, const FeatureOptions& o, LocalFrame& fr, int nose) {
+  const auto prof = detail::plane_profile(m, fr, 0.0, o.plane_band * fr.ear_distance);
+  const Eigen::Vector3d q = m.vertices[nose] - fr.origin;
+  const detail::ProfileSample tip{nose, q.dot(fr.up), q.dot(fr.forward)};
+  const auto [above, below] = delta_line(prof, tip, fr.ear_distance);
   if (!above || !below) return;  // keep the ear-nose frame
   const Eigen::Vector3d up = ((above->s - below->s) * fr.up + (above->f - below->f) * fr.forward)
                                  .normalized();
@@ -195,25 +300,22 @@ void face_line_frame(const TriMesh& m, const FeatureOptions& o, LocalFrame& fr, 
   fr.forward = fr.left.cross(up);
 }
 
-// Index of the mid-plane vertex that stands out most in front of both of its sides: f minus the
-// larger of the profile maxima 0.12-0.35 D above and below it (the nose beats the chin, whose
-// upper side holds the lips). -1 for an empty profile.
+// P4 / 9.3 (seed 000 §VI.H): the mid-plane vertex farthest in front of its line Delta. The
+// distance to Delta does not depend on how the forward axis is tilted within the mid-plane, and
+// on a smoothly convex stretch (forehead, skull) Delta hugs the profile. -1 if none qualifies.
 int most_protruding(const TriMesh& m, const FeatureOptions& o, const LocalFrame& fr) {
-  const auto prof = detail::plane_profile(m, fr, 0.0, o.plane_band * fr.ear_distance);
-  const double near = 0.12 * fr.ear_distance, far = 0.35 * fr.ear_distance;
+  const double D = fr.ear_distance;
+  const auto prof = detail::plane_profile(m, fr, 0.0, o.plane_band * D);
   int best = -1;
-  double best_h = -1e300;
+  double best_h = 0.0;
   for (const auto& c : prof) {
     // Face points lie within ~0.85 D of the ear midpoint; a neck cut or a bust base is farther.
-    if ((m.vertices[c.vertex] - fr.origin).norm() > 0.95 * fr.ear_distance) continue;
-    double above = -1e300, below = -1e300;
-    for (const auto& p : prof) {
-      const double ds = p.s - c.s;
-      if (std::abs(ds) < near || std::abs(ds) > far) continue;
-      (ds > 0 ? above : below) = std::max(ds > 0 ? above : below, p.f);
-    }
-    if (above < -1e299 || below < -1e299) continue;
-    const double h = c.f - std::max(above, below);
+    if ((m.vertices[c.vertex] - fr.origin).norm() > 0.95 * D) continue;
+    const auto [above, below] = delta_line(prof, c, D);
+    if (!above || !below) continue;
+    const Eigen::Vector2d a(above->s, above->f), b(below->s, below->f), x(c.s, c.f);
+    const Eigen::Vector2d dir = (a - b).normalized(), normal(-dir.y(), dir.x());  // toward +f
+    const double h = (x - b).dot(normal);
     if (h > best_h) best_h = h, best = c.vertex;
   }
   return best;
@@ -223,26 +325,29 @@ int most_protruding(const TriMesh& m, const FeatureOptions& o, const LocalFrame&
 bool key_vertices(const TriMesh& m, const std::vector<double>& ratio, const FeatureOptions& o,
                   FeatureReport& r, LocalFrame& fr, std::vector<Cluster>& cl, int& ea, int& eb) {
   const double diag = pose_free_size(m);
-  std::vector<double> sorted = ratio;
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() * 95 / 100, sorted.end());
-  const double t = std::clamp(sorted[sorted.size() * 95 / 100], 1.08, o.ratio_threshold);
-  cl = dense_clusters(m, ratio, t, 0.5 * o.neighbourhood * diag);
+  const double t = std::clamp(top_area_ratio(m, ratio, o.dense_area), o.ratio_threshold, o.ratio_cap);
+  cl = dense_clusters(m, ratio, t, o.neighbourhood * diag);
   r.cluster.assign(m.vertices.size(), -1);
   for (size_t c = 0; c < cl.size(); ++c)
     for (int v : cl[c].vertices) r.cluster[v] = int(c);
-  const auto pair = ear_pair(m, cl, diag, r.symmetry_error);
+  const auto pair = ear_pair(m, cl, diag);
   if (!pair) {
     r.missing.push_back("ears (P1, P2): no symmetric pair of dense clusters (" +
                         std::to_string(cl.size()) + " clusters); a face without ears cannot "
                         "give the ears, their midpoint, the axes or the points that need them");
     return false;
   }
-  std::tie(ea, eb) = *pair;
+  std::tie(ea, eb) = pair->first;
+  const MirrorPlane& plane = pair->second;
+  r.symmetry_error = plane.error;
   const int va = nearest_vertex(m, cl[ea].vertices, cl[ea].centroid);
   const int vb = nearest_vertex(m, cl[eb].vertices, cl[eb].centroid);
   fr.ear_distance = (m.vertices[vb] - m.vertices[va]).norm();
-  fr.origin = 0.5 * (m.vertices[va] + m.vertices[vb]);  // P3, seed 000 §VI.G
-  fr.left = (m.vertices[vb] - m.vertices[va]) / fr.ear_distance;
+  // P3 (seed 000 §VI.G): the ears' midpoint, moved onto the refined symmetry plane whose normal
+  // is the left axis (the profiles are thin slices of that plane).
+  fr.left = plane.n.dot(m.vertices[vb] - m.vertices[va]) > 0.0 ? plane.n : Eigen::Vector3d(-plane.n);
+  const Eigen::Vector3d mid = 0.5 * (m.vertices[va] + m.vertices[vb]);
+  fr.origin = mid - fr.left.dot(mid - plane.o) * fr.left;
   r.ear_midpoint = fr.origin;
   auto fwd = face_direction(cl, ea, eb, fr);
   if (!fwd) {

@@ -12,7 +12,8 @@ namespace orthoface::model {
 
 struct FeatureOptions {
   double neighbourhood = 0.03;    // Euclidean radius of the ratio test, x pose_free_size
-  double ratio_threshold = 1.5;   // geodesic / Euclidean above this marks a "dense" vertex
+  double dense_area = 0.05;       // the highest-ratio fraction of the surface area is "dense"...
+  double ratio_threshold = 1.08;  // ...but only where geodesic / Euclidean is above this
   double ratio_cap = 4.0;         // pairs not joined within cap x radius count as the cap
   int max_sources = 10000;        // ratio sources (a farthest-point sample above this)
   double plane_band = 0.012;      // half-width of the plane slices, x ear-to-ear distance

@@ -7,6 +7,8 @@
 #include <map>
 
 #include "sim/head.h"
+#include "sim/scan.h"
+#include "tests/common/test_data.h"
 #include "tests/model/analysis_test_meshes.h"
 
 namespace orthoface::model {
@@ -24,10 +26,7 @@ const FoundPoint* find(const FeatureReport& r, const std::string& name) {
   return nullptr;
 }
 
-// DISABLED: passed on the sim heads before sim commit 9e7908f / 1da2141 (narrower, shorter neck,
-// slimmer eyes); on the current heads no ear pair passes the mirror test (see the final report).
-// Re-enable once mpeg4_features' ear-pair selection is retuned.
-TEST(Mpeg4Features, DISABLED_SimHeadKeyVerticesAndMidlinePoints) {
+TEST(Mpeg4Features, SimHeadKeyVerticesAndMidlinePoints) {
   const sim::Head h = head16k(0);
   const FeatureReport r = mpeg4_features(h.mesh);
   ASSERT_TRUE(r.nose_tip && r.ear_left && r.ear_right) << (r.missing.empty() ? "" : r.missing[0]);
@@ -47,10 +46,7 @@ TEST(Mpeg4Features, DISABLED_SimHeadKeyVerticesAndMidlinePoints) {
   }
 }
 
-// DISABLED: passed on the sim heads before sim commit 9e7908f / 1da2141 (narrower, shorter neck,
-// slimmer eyes); on the current heads no ear pair passes the mirror test (see the final report).
-// Re-enable once mpeg4_features' ear-pair selection is retuned.
-TEST(Mpeg4Features, DISABLED_IndependentOfPoseAndScale) {
+TEST(Mpeg4Features, IndependentOfPoseAndScale) {
   const sim::Head h = head16k(0);
   const FeatureReport a = mpeg4_features(h.mesh);
   TriMesh moved = h.mesh;
@@ -68,6 +64,26 @@ TEST(Mpeg4Features, DISABLED_IndependentOfPoseAndScale) {
     const FoundPoint *pa = find(a, name), *pb = find(b, name);
     ASSERT_TRUE(pa && pb) << name;
     EXPECT_LT((back(pa->vertex) - back(pb->vertex)).norm(), 4.0) << name;
+  }
+}
+
+// The Lee Perry-Smith scan (bust with shoulders, finely meshed face, eyes closed) against the
+// landmarks picked on its texture and profile (sim/scan.cpp), in mm.
+TEST(Mpeg4Features, LeePerrySmithScanMatchesPickedLandmarks) {
+  const std::string dir = testing::shared_data("lee_perry_smith_head");
+  if (dir.empty()) GTEST_SKIP() << "no ../shared/data/lee_perry_smith_head";
+  const sim::Head h = sim::lee_perry_smith_head(dir);
+  const FeatureReport r = mpeg4_features(h.mesh);
+  ASSERT_TRUE(r.nose_tip && r.ear_left) << (r.missing.empty() ? "" : r.missing[0]);
+  EXPECT_LT((h.mesh.vertices[*r.nose_tip] - h.landmarks.at("nose_tip")).norm(), 6.0);
+  EXPECT_GT(h.mesh.vertices[*r.ear_left].x(), 50.0);  // subject's left is +x in the head frame
+  EXPECT_LT((h.mesh.vertices[*r.ear_left] - h.landmarks.at("ear_left_tragus")).norm(), 40.0);
+  const std::map<std::string, std::string> truth = {
+      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"nasion", "nose_bridge"}};
+  for (const auto& [fp, lm] : truth) {
+    const FoundPoint* p = find(r, fp);
+    ASSERT_NE(p, nullptr) << fp;
+    EXPECT_LT((p->position - h.landmarks.at(lm)).norm(), 6.0) << fp;
   }
 }
 
@@ -104,6 +120,9 @@ TEST(Mpeg4Features, BadInputThrows) {
   EXPECT_THROW(mpeg4_features(testing::icosphere(1, 1.0), o), std::invalid_argument);
   o = {};
   o.ratio_threshold = 0.5;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+  o = {};
+  o.dense_area = 0.0;
   EXPECT_THROW(o.check(), std::invalid_argument);
 }
 
