@@ -248,13 +248,19 @@ GpuMesh upload_mesh(const model::TriMesh& m, bool with_texture) {
   return g;
 }
 
-RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective) {
+RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective,
+                         bool with_depth) {
   RenderResult r;
   cv::Mat bgra(h, w, CV_8UC4);
-  r.depth_mm.create(h, w, CV_32F);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
+  if (!with_depth) {
+    cv::extractChannel(bgra, r.mask, 3);
+    cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
+    return r;
+  }
+  r.depth_mm.create(h, w, CV_32F);
   glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, r.depth_mm.data);
   cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
   r.mask = r.depth_mm < 1.0f;

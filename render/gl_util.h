@@ -62,8 +62,10 @@ struct GpuMesh {
 GpuMesh upload_mesh(const model::TriMesh& mesh, bool with_texture);
 
 // Reads colour attachment 0 (as BGR) and the depth buffer (as z_cam mm, +inf where empty, and
-// the mask) of the bound framebuffer, w x h, drawn with near_far() planes `nf`.
-RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective);
+// the mask) of the bound framebuffer, w x h, drawn with near_far() planes `nf`. Without depth
+// the mask is the colour's alpha: the framebuffer must be cleared to alpha 0 and drawn with 1.
+RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool perspective,
+                         bool with_depth = true);
 
 // Throws std::invalid_argument (prefixed by `what`) when the camera's size is outside
 // 1..kMaxImageSize or its intrinsics are not positive / finite.

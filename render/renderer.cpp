@@ -206,8 +206,9 @@ RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraM
   impl_->fb.ensure(camera.width, camera.height, {GL_RGBA8});
   glBindFramebuffer(GL_FRAMEBUFFER, impl_->fb.fbo);
   glViewport(0, 0, camera.width, camera.height);
+  // Alpha 0 outside the mesh: the mask when depth is not read (the shader writes alpha 1).
   const float bg[4] = {float(options.background[2] / 255), float(options.background[1] / 255),
-                       float(options.background[0] / 255), 1.0f};
+                       float(options.background[0] / 255), 0.0f};
   const float one = 1.0f;
   glClearBufferfv(GL_COLOR, 0, bg);
   glClearBufferfv(GL_DEPTH, 0, &one);
@@ -217,7 +218,7 @@ RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraM
     impl_->draw(g, options);
   }
   return gl::read_result(camera.width, camera.height, nf,
-                         camera.projection == capture::Projection::Perspective);
+                         camera.projection == capture::Projection::Perspective, options.read_depth);
 }
 
 void Renderer::clear_cache() {

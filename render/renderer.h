@@ -24,6 +24,7 @@ struct RenderOptions {
   bool cull_back_faces = true;  // faces whose outward normal points away from the camera
   bool wireframe = false;       // draw triangle edges over the surface (figures)
   cv::Scalar wireframe_color{40, 40, 40};  // BGR 0..255
+  bool read_depth = true;  // false: image and mask only, depth_mm left empty (a faster frame)
 };
 
 // Largest image width or height a render accepts, pixels.
@@ -33,6 +34,7 @@ inline constexpr int kMaxRenderSize = 8192;
 struct RenderResult {
   cv::Mat image;     // CV_8UC3 BGR
   cv::Mat depth_mm;  // CV_32F, z_cam of the visible surface in mm; +infinity where empty
+                     // (empty when RenderOptions::read_depth is false)
   cv::Mat mask;      // CV_8U, 255 where the mesh covers the pixel centre, else 0
 };
 

@@ -257,6 +257,24 @@ TEST(Renderer, RenderTwiceGivesIdenticalImagesAndReusesTheUpload) {
   EXPECT_EQ(r.cached_meshes(), 0);
 }
 
+TEST(Renderer, WithoutDepthTheImageAndMaskAreTheSame) {
+  Renderer r;
+  const CameraModel cam = perspective_camera(30, 500);
+  const TriMesh s = uv_ellipsoid({0, 0, 0}, {70, 90, 80}, 24, 48, 256);
+  RenderOptions fast;
+  fast.read_depth = false;
+  fast.background = cv::Scalar(10, 200, 30);
+  RenderOptions full = fast;
+  full.read_depth = true;
+  const RenderResult a = r.render(s, cam, full), b = r.render(s, cam, fast);
+  EXPECT_TRUE(b.depth_mm.empty());
+  EXPECT_EQ(cv::norm(a.image, b.image, cv::NORM_INF), 0.0);
+  ASSERT_EQ(b.mask.type(), CV_8U);
+  EXPECT_EQ(cv::norm(a.mask, b.mask, cv::NORM_INF), 0.0);
+  EXPECT_GT(cv::countNonZero(b.mask), 10000);
+  EXPECT_LT(cv::countNonZero(b.mask), int(b.mask.total()));
+}
+
 TEST(Renderer, DirectionalLightShadesTheRim) {
   const CameraModel cam = capture::ideal_rig(200, 200, 1.0).front;
   TriMesh s = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 48, 96);
