@@ -188,8 +188,6 @@ struct ViewSynthesizer::Impl {
   void equalize_photos();
   void source_uniforms(GLuint prog);
   GLuint view_program(const SynthesisOptions& o);
-  RenderResult read_image_and_mask(int w, int h);
-  cv::Mat bgra;  // readback buffer, reused
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -338,18 +336,6 @@ GLuint ViewSynthesizer::Impl::view_program(const SynthesisOptions& o) {
   return p;
 }
 
-// Colour attachment 0 as BGR, and the mask from its alpha (1 where drawn, see render()).
-RenderResult ViewSynthesizer::Impl::read_image_and_mask(int w, int h) {
-  bgra.create(h, w, CV_8UC4);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
-  RenderResult r;
-  cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
-  cv::extractChannel(bgra, r.mask, 3);
-  return r;
-}
-
 // Uniforms that depend only on the rig and the source depth maps.
 void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
   glUseProgram(prog);
@@ -481,11 +467,8 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glBindVertexArray(0);
   }
   SynthesisResult r;
-  if (o.depth)
-    r.view = gl::read_result(camera.width, camera.height, nf,
-                             camera.projection == capture::Projection::Perspective);
-  else
-    r.view = m.read_image_and_mask(camera.width, camera.height);
+  r.view = gl::read_result(camera.width, camera.height, nf,
+                           camera.projection == capture::Projection::Perspective, o.depth);
   if (o.source_weights) {
     r.weights.create(camera.height, camera.width, CV_8UC3);
     glReadBuffer(GL_COLOR_ATTACHMENT1);
