@@ -212,9 +212,11 @@ std::optional<double> silhouette_x_at(const StereoData& data, double y, int sign
   const double c = centre_x_at(data, y);
   const std::vector<Eigen::Vector2d>& s = data.silhouette;
   std::optional<double> best;  // over the segments with both ends on the requested side
-  for (size_t i = 0; i + 1 < s.size(); ++i)
+  for (size_t i = 0; i + 1 < s.size(); ++i) {
+    if ((s[i].y() - y) * (s[i + 1].y() - y) > 0) continue;  // cheapest test first
     if (sign * (s[i].x() - c) > 0 && sign * (s[i + 1].x() - c) > 0)
       keep_extreme(segment_at(s[i], s[i + 1], y), sign, best);
+  }
   return best;
 }
 
