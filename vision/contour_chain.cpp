@@ -123,6 +123,15 @@ double neck_offset(const RowExtent& e, double h) {
   return n ? s / n - head_mid : 0.0;
 }
 
+double head_width(const RowExtent& e) {
+  double m = 0;
+  for (int r = e.top; r >= 0 && r <= e.bottom; ++r) {
+    if (e.left[r] >= 0) m = std::max(m, double(e.right[r] - e.left[r] + 1));
+    if (r - e.top > 0.9 * m && m > 10) break;
+  }
+  return m;
+}
+
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& p, double step) {
   if (!(step > 0)) throw std::invalid_argument("resample: step must be > 0");
   if (p.size() < 2) return p;

@@ -29,6 +29,10 @@ cv::Point2d side_protrusions(const RowExtent& extent, int r0, int r1);
 // stands behind the face). 0 when those rows are empty.
 double neck_offset(const RowExtent& extent, double head_height);
 
+// Width of the widest row of the head part of a blob: rows from the top until the depth below
+// it exceeds 0.9 x the widest row so far (shoulders further down do not count). 0 when empty.
+double head_width(const RowExtent& extent);
+
 // Polyline resampled at equal arc-length steps of `step_px` (> 0).
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& polyline, double step_px);
 

@@ -36,7 +36,7 @@ struct SideResult {
 };
 
 SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
-                        std::vector<std::string>& warn) {
+                        double min_head_height_px, std::vector<std::string>& warn) {
   SideResult r;
   const cv::Mat prob = foreground_probability(side, bg);
   int blobs = 0;
@@ -46,13 +46,15 @@ SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
     return r;
   }
   if (blobs > 1) warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
-  r.faces_left = profile_faces_left(mask, side, &r.facing_confidence);
+  r.faces_left = profile_faces_left(mask, side, &r.facing_confidence, min_head_height_px);
   if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
     warn.push_back("side view: facing direction unsure; give --side-camera left|right");
   cv::Mat im = side, pr = prob, mk = mask;
   if (!r.faces_left) cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
-  r.profile = side_profile(im, pr, mk);
+  SideProfileOptions so;
+  so.min_head_height_px = min_head_height_px;
+  r.profile = side_profile(im, pr, mk, so);
   if (!r.faces_left) {
     const double w1 = side.cols - 1;
     for (auto& p : r.profile.curve) p.x = w1 - p.x;
@@ -139,9 +141,14 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   FaceObservation obs;
   obs.front.width = front.cols, obs.front.height = front.rows;
   obs.side.width = side.cols, obs.side.height = side.rows;
-  const SideResult s = observe_side(side, bgs, o.side_camera, obs.warnings);
+  // The front blob first: its head width bounds the side view's head height from below (a head
+  // is at least as tall as it is wide), which a side blob without its hair underestimates.
+  const FrontHead head = segment_front(front, bgf);
+  const double row_scale = double(front.rows) / side.rows;
+  const double min_h = head.mask.empty() ? 0.0 : head_width(row_extent(head.mask)) / row_scale;
+  const SideResult s = observe_side(side, bgs, o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
-  observe_front(front, bgf, s.profile, double(front.rows) / side.rows, o, obs);
+  observe_front(front, bgf, head, s.profile, row_scale, o, obs);
   for (const auto& p : s.profile.curve) obs.side.boundary.push_back(out_px(p));
   obs.side.boundary_confidence = s.profile.confidence;
   for (const auto& [n, f] : s.profile.features) {
@@ -162,7 +169,7 @@ FaceObservation observe_front(const cv::Mat& front_in, const ObserveOptions& o) 
   const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
   FaceObservation obs;
   obs.front.width = front.cols, obs.front.height = front.rows;
-  observe_front(front, bgf, SideProfile{}, 1.0, o, obs);
+  observe_front(front, bgf, segment_front(front, bgf), SideProfile{}, 1.0, o, obs);
   return obs;
 }
 

@@ -82,12 +82,20 @@ void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& f
 
 }  // namespace
 
-void observe_front(const cv::Mat& front, const cv::Mat& bg, const SideProfile& sp,
-                   double row_scale, const ObserveOptions& o, FaceObservation& obs) {
+FrontHead segment_front(const cv::Mat& front, const cv::Mat& bg) {
+  FrontHead h;
+  h.probability = foreground_probability(front, bg);
+  h.mask = head_mask(h.probability, {}, &h.blobs);
+  return h;
+}
+
+void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& head,
+                   const SideProfile& sp, double row_scale, const ObserveOptions& o,
+                   FaceObservation& obs) {
   auto& warn = obs.warnings;
-  const cv::Mat prob = foreground_probability(front, bg);
-  int blobs = 0;
-  const cv::Mat mask = head_mask(prob, {}, &blobs);
+  const cv::Mat& prob = head.probability;
+  const cv::Mat& mask = head.mask;
+  const int blobs = head.blobs;
   if (mask.empty()) {
     warn.push_back(bg.empty() ? cut_off_border(front) : std::string());
     if (warn.back().empty()) warn.back() = "front view: no head found (no subject distinct from the background)";

@@ -16,20 +16,19 @@ namespace orthoface::vision {
 void SideProfileOptions::check() const {
   if (!(control_spacing_px >= 3 && control_spacing_px <= 100))
     throw std::invalid_argument("SideProfileOptions: control_spacing_px must be in [3, 100]");
+  if (!(min_head_height_px >= 0))
+    throw std::invalid_argument("SideProfileOptions: min_head_height_px must be >= 0");
   fit.check();
 }
 
 namespace {
 
 // Crown-to-chin height from the blob: a head is about 1.2x as tall as it is deep (front-back),
-// and its depth is reached within about 0.9 depth below the crown.
-double head_height_estimate(const RowExtent& e) {
-  double m = 0;
-  for (int r = e.top; r >= 0 && r <= e.bottom; ++r) {
-    if (e.left[r] >= 0) m = std::max(m, double(e.right[r] - e.left[r] + 1));
-    if (r - e.top > 0.9 * m && m > 10) break;
-  }
-  return 1.2 * m;
+// and its depth is reached within about 0.9 depth below the crown. A blob that lost the hair
+// (hair as dark as the background) is narrower: `at_least` (e.g. the front view's head width)
+// bounds the estimate from below.
+double head_height_estimate(const RowExtent& e, double at_least) {
+  return std::max(1.2 * head_width(e), at_least);
 }
 
 // A contour chain at ~1 px steps (empty stays empty).
@@ -66,7 +65,7 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
 }  // namespace
 
 bool profile_faces_left(const cv::Mat& mask, double* confidence) {
-  return profile_faces_left(mask, cv::Mat(), confidence);
+  return profile_faces_left(mask, cv::Mat(), confidence, 0.0);
 }
 
 // Lit skin stands on the face side of the head and (darker) hair at the back: mean offset, in
@@ -118,13 +117,16 @@ double face_profile_side(const cv::Mat& mask, const RowExtent& e, double h) {
   return double(left) - double(right);
 }
 
-bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence) {
+bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence,
+                        double min_head_height_px) {
+  if (!(min_head_height_px >= 0))
+    throw std::invalid_argument("profile_faces_left: min_head_height_px must be >= 0");
   if (!bgr.empty() && (bgr.size() != mask.size() || bgr.type() != CV_8UC3))
     throw std::invalid_argument("profile_faces_left: image and mask differ in size/type");
   const RowExtent e = row_extent(mask);
   if (confidence) *confidence = 0;
   if (e.top < 0) return true;
-  const double h = head_height_estimate(e);
+  const double h = head_height_estimate(e, min_head_height_px);
   // Cues: the nose bump sticks out on the face side; the neck stands behind the face (only
   // when those rows are narrower than the head: wider, they are the torso); skin lies on
   // the face side of the hair.
@@ -159,7 +161,7 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
     sp.warnings.push_back("side view: no head found");
     return sp;
   }
-  sp.head_height_px = head_height_estimate(e);
+  sp.head_height_px = head_height_estimate(e, o.min_head_height_px);
   const int stop = std::min(e.bottom, int(e.top + 1.45 * sp.head_height_px));
   const std::vector<cv::Point2d> chain = front_chain(mask, stop);
   if (chain.size() < 40) {

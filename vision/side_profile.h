@@ -13,6 +13,8 @@ namespace orthoface::vision {
 
 struct SideProfileOptions {
   double control_spacing_px = 5.0;  // arc length between the profile model's control points
+  double min_head_height_px = 0.0;  // lower bound of the crown-to-chin height (e.g. the front
+                                    // view's head width; 0 = from the blob alone)
   ProfileFitOptions fit;            // the iterative fit; num_control/samples are set from length
   void check() const;               // throws std::invalid_argument on out-of-range values
 };
@@ -49,7 +51,9 @@ bool reads_as_face_profile(const std::vector<cv::Point2d>& curve, double head_he
 // `confidence` (optional) gets 0..1 from how much one side's nose bump dominates.
 bool profile_faces_left(const cv::Mat& mask, double* confidence = nullptr);
 // Same, also voting with where the skin of `bgr` (8-bit BGR, size of `mask`; may be empty) lies
-// in the blob: face skin in front, hair behind. Throws std::invalid_argument on a size mismatch.
-bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence);
+// in the blob: face skin in front, hair behind; `min_head_height_px` as in SideProfileOptions.
+// Throws std::invalid_argument on a size mismatch or a negative height.
+bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confidence,
+                        double min_head_height_px = 0.0);
 
 }  // namespace orthoface::vision
