@@ -136,6 +136,20 @@ TEST(SideProfile, FaceProfileShapeAndFacing) {
   cv::Mat flipped;
   cv::flip(mask, flipped, 1);
   EXPECT_FALSE(ov::profile_faces_left(flipped, &conf));
+  EXPECT_THROW(ov::profile_faces_left(mask, cv::Mat(), &conf, -1.0), std::invalid_argument);
+  ov::SideProfileOptions o;
+  o.min_head_height_px = -1;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
+TEST(ContourChain, HeadWidthIgnoresTheShoulders) {
+  cv::Mat mask(400, 400, CV_8U, cv::Scalar(0));
+  cv::circle(mask, {200, 100}, 50, cv::Scalar(255), cv::FILLED);       // head, 101 px wide
+  mask(cv::Rect(185, 140, 31, 100)).setTo(255);                          // neck
+  mask(cv::Rect(40, 240, 320, 160)).setTo(255);                          // shoulders
+  EXPECT_NEAR(ov::head_width(ov::row_extent(mask)), 101, 1);
+  EXPECT_EQ(ov::head_width(ov::row_extent(cv::Mat(10, 10, CV_8U, cv::Scalar(0)))), 0.0);
+  EXPECT_THROW(ov::row_extent(cv::Mat()), std::invalid_argument);
 }
 
 TEST(ImagePrep, ConvertsGreySixteenBitAndAlpha) {
