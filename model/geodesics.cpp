@@ -1,10 +1,13 @@
 #include "model/geodesics.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <queue>
 #include <stdexcept>
 #include <string>
+#include <thread>
+#include <tuple>
 
 namespace orthoface::model {
 namespace {
@@ -49,17 +52,15 @@ void check_sources(const TriMesh& mesh, const std::vector<int>& sources, const c
                                   ")");
 }
 
-// Distance at C through the edge AB of triangle ABC, given dA and dB. The known vertices are
-// unfolded into the plane (A at origin, B on +x, C above) and the source they imply is the
-// circle intersection below AB; if the straight ray from it to C crosses AB the distance is
-// exact for a planar patch, otherwise the edge paths bound it.
-double triangle_update(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                       const Eigen::Vector3d& c, double da, double db) {
-  const double ac = (c - a).norm(), bc = (c - b).norm();
+// Distance at C through the edge AB of triangle ABC, given dA, dB and the edge lengths. The
+// known vertices are unfolded into the plane (A at origin, B on +x, C above) and the source
+// they imply is the circle intersection below AB; if the straight ray from it to C crosses AB
+// the distance is exact for a planar patch, otherwise the edge paths bound it. Lengths only, so
+// no square root is spent on positions.
+double triangle_update(double ab, double ac, double bc, double da, double db) {
   const double edge_bound = std::min(da + ac, db + bc);
-  const double ab = (b - a).norm();
   if (ab <= 0.0) return edge_bound;
-  const double cx = (c - a).dot(b - a) / ab;
+  const double cx = (ac * ac + ab * ab - bc * bc) / (2.0 * ab);
   const double cy2 = ac * ac - cx * cx;
   if (cy2 <= 1e-18 * ac * ac) return edge_bound;  // degenerate triangle
   const double cy = std::sqrt(cy2);
@@ -70,7 +71,23 @@ double triangle_update(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   const double t = -sy / (cy - sy);  // where the ray S->C meets y = 0
   const double x = sx + t * (cx - sx);
   if (x < 0.0 || x > ab) return edge_bound;
-  return std::min(edge_bound, std::hypot(cx - sx, cy - sy));
+  return std::min(edge_bound, std::sqrt((cx - sx) * (cx - sx) + (cy - sy) * (cy - sy)));
+}
+
+// Rows [0, n) of a matrix filled by `fill_row(worker, row)` on all hardware threads, each worker
+// with its own scratch state made by `make_worker()`.
+template <class MakeWorker, class FillRow>
+void parallel_rows(int n, MakeWorker make_worker, FillRow fill_row) {
+  const int threads = std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / 64));
+  std::atomic<int> next{0};
+  auto run = [&] {
+    auto worker = make_worker();
+    for (int row = next++; row < n; row = next++) fill_row(worker, row);
+  };
+  std::vector<std::thread> pool;
+  for (int k = 1; k < threads; ++k) pool.emplace_back(run);
+  run();
+  for (auto& t : pool) t.join();
 }
 
 }  // namespace
@@ -94,6 +111,11 @@ GeodesicSolver::GeodesicSolver(const TriMesh& mesh) {
   Incidence inc = incidence(mesh);
   start_ = std::move(inc.start);
   tris_ = std::move(inc.tris);
+  edge_lengths_.reserve(triangles_.size());
+  for (const auto& t : triangles_)
+    edge_lengths_.push_back({(vertices_[t[1]] - vertices_[t[2]]).norm(),
+                             (vertices_[t[2]] - vertices_[t[0]]).norm(),
+                             (vertices_[t[0]] - vertices_[t[1]]).norm()});
   dist_.assign(vertices_.size(), kInf);
   done_.assign(vertices_.size(), 0);
 }
@@ -125,7 +147,6 @@ std::vector<std::pair<int, double>> GeodesicSolver::reached_from_seeds(
     dist_[s] = d0;
     queue.push({d0, s});
   }
-  const auto& p = vertices_;
   while (!queue.empty()) {
     const QueueItem top = queue.top();
     queue.pop();
@@ -136,14 +157,16 @@ std::vector<std::pair<int, double>> GeodesicSolver::reached_from_seeds(
     const int v = top.v;
     for (int k = start_[v]; k < start_[v + 1]; ++k) {
       const auto& t = triangles_[tris_[k]];
-      const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2);
-      const int a = t[(i + 1) % 3], b = t[(i + 2) % 3];
+      const auto& len = edge_lengths_[tris_[k]];  // len[j]: the edge opposite corner j
+      const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2), ia = (i + 1) % 3, ib = (i + 2) % 3;
+      const int a = t[ia], b = t[ib];
       // Update each unfinished corner from v alone or from v and the other finished corner.
-      for (const auto& [target, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      for (const auto& [target, other, l_vo, l_vt, l_ot] :
+           {std::tuple{a, b, len[ia], len[ib], len[i]}, std::tuple{b, a, len[ib], len[ia], len[i]}}) {
         if (done_[target]) continue;
         const double d = done_[other]
-                             ? triangle_update(p[v], p[other], p[target], dist_[v], dist_[other])
-                             : dist_[v] + (p[target] - p[v]).norm();
+                             ? triangle_update(l_vo, l_vt, l_ot, dist_[v], dist_[other])
+                             : dist_[v] + l_vt;
         if (d < dist_[target]) {
           if (dist_[target] == kInf) touched.push_back(target);
           dist_[target] = d;
@@ -228,13 +251,15 @@ DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int m
   const int n = static_cast<int>(mesh.vertices.size());
   DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
   const auto nb = vertex_neighbors(mesh);
-  GeodesicSolver solver(mesh);
-  for (int s = 0; s < n; ++s) {
-    const std::vector<double> row = method == GeodesicMethod::kEdgeGraph
-                                        ? dijkstra(mesh, nb, {s}, kInf)
-                                        : solver.distances({s});
-    std::copy(row.begin(), row.end(), m.values.begin() + static_cast<size_t>(s) * n);
-  }
+  const GeodesicSolver prototype(mesh);  // copied per worker: its scratch arrays are per run
+  parallel_rows(
+      n, [&] { return prototype; },
+      [&](GeodesicSolver& solver, int s) {
+        const std::vector<double> row = method == GeodesicMethod::kEdgeGraph
+                                            ? dijkstra(mesh, nb, {s}, kInf)
+                                            : solver.distances({s});
+        std::copy(row.begin(), row.end(), m.values.begin() + static_cast<size_t>(s) * n);
+      });
   return m;
 }
 
@@ -242,10 +267,14 @@ DistanceMatrix euclidean_matrix(const TriMesh& mesh, int max_vertices) {
   check_matrix_size(mesh, max_vertices, "euclidean_matrix");
   const int n = static_cast<int>(mesh.vertices.size());
   DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
-  for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j)
-      m.values[static_cast<size_t>(i) * n + j] =
-          static_cast<float>((mesh.vertices[i] - mesh.vertices[j]).norm());
+  std::vector<Eigen::Vector3f> p;
+  for (const auto& v : mesh.vertices) p.push_back(v.cast<float>());
+  parallel_rows(
+      n, [] { return 0; },
+      [&](int, int i) {
+        float* row = m.values.data() + static_cast<size_t>(i) * n;
+        for (int j = 0; j < n; ++j) row[j] = (p[i] - p[j]).norm();
+      });
   return m;
 }
 

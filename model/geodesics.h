@@ -43,6 +43,7 @@ class GeodesicSolver {
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<int> start_, tris_;     // vertex -> incident triangles
+  std::vector<std::array<double, 3>> edge_lengths_;  // per triangle: edge opposite each corner
   std::vector<double> dist_;          // scratch, +inf between runs
   std::vector<char> done_;
 };
@@ -59,8 +60,9 @@ std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh);
 enum class GeodesicMethod { kFastMarching, kEdgeGraph };
 
 // Row-major n x n float matrix of pairwise distances computed one source row at a time
-// (n single-source runs, never Floyd-Warshall). Memory is 4 n^2 bytes: throws
-// std::invalid_argument when n > max_vertices (default 16384, 1 GiB) or the mesh is bad.
+// (n single-source runs, never Floyd-Warshall), rows split over the hardware threads. Memory
+// is 4 n^2 bytes: throws std::invalid_argument when n > max_vertices (default 16384, 1 GiB) or
+// the mesh is bad.
 struct DistanceMatrix {
   int n = 0;
   std::vector<float> values;
