@@ -26,6 +26,8 @@ void ObserveOptions::check() const {
 
 namespace {
 
+constexpr double kHeightPerWidth = 1.25;  // crown-to-chin height / head width, lower bound
+
 // Index coordinates -> capture convention (pixel centre = index + 0.5).
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
 
@@ -142,10 +144,11 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   obs.front.width = front.cols, obs.front.height = front.rows;
   obs.side.width = side.cols, obs.side.height = side.rows;
   // The front blob first: its head width bounds the side view's head height from below (a head
-  // is at least as tall as it is wide), which a side blob without its hair underestimates.
+  // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
+  // underestimates.
   const FrontHead head = segment_front(front, bgf);
   const double row_scale = double(front.rows) / side.rows;
-  const double min_h = head.mask.empty() ? 0.0 : head_width(row_extent(head.mask)) / row_scale;
+  const double min_h = head.mask.empty() ? 0.0 : kHeightPerWidth * head_width(row_extent(head.mask)) / row_scale;
   const SideResult s = observe_side(side, bgs, o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
   observe_front(front, bgf, head, s.profile, row_scale, o, obs);
