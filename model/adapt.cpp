@@ -23,19 +23,21 @@ Spread spread_of(const std::vector<Eigen::Vector2d>& pts) {
   return s;
 }
 
-// Without usable features: heights from the observed range, width from the silhouette.
-Alignment align_by_boundary(const BaseMesh& base, const StereoData& data) {
+// Without usable features. The observed heights are no guide (the photos show the whole head,
+// the base mesh only the face), so the nose anchors the base: its tip goes to the profile's most
+// projecting point (seed 004 §4 finds the nose the same way), and one scale for x, y and z is
+// the silhouette's width at that height over the generic head's.
+Alignment align_by_boundary(const StereoData& data) {
+  static const Eigen::Vector3d nose = generic_landmarks().at("nose_tip");
   Alignment a;
-  const double b_top = base.slice_heights.front(), b_bottom = base.slice_heights.back();
-  a.scale.y() = (data.y_top - data.y_bottom) / (b_top - b_bottom);
-  a.translation.y() = data.y_top - a.scale.y() * b_top;
-  const double y_mid = 0.5 * (data.y_top + data.y_bottom);
-  const auto l = silhouette_x_at(data, y_mid, +1), r = silhouette_x_at(data, y_mid, -1);
-  const double base_y = (y_mid - a.translation.y()) / a.scale.y();
-  if (l && r && *l > *r) {
-    a.scale.x() = (*l - *r) / (2.0 * generic_half_width(base_y));
-    a.translation.x() = 0.5 * (*l + *r);
-  }
+  const Eigen::Vector2d* tip = nullptr;  // profile points are (z, y)
+  for (const Eigen::Vector2d& p : data.profile)
+    if (p.y() <= data.y_top && p.y() >= data.y_bottom && (!tip || p.x() > tip->x())) tip = &p;
+  if (!tip) return a;
+  const auto l = silhouette_x_at(data, tip->y(), +1), r = silhouette_x_at(data, tip->y(), -1);
+  if (l && r && *l > *r) a.scale.setConstant((*l - *r) / (2.0 * generic_half_width(nose.y())));
+  a.translation = Eigen::Vector3d(centre_x_at(data, tip->y()), tip->y(), tip->x()) -
+                  a.scale.cwiseProduct(nose);
   return a;
 }
 
@@ -138,14 +140,12 @@ Alignment align_base(const BaseMesh& base, const StereoData& data,
     o.push_back(it->second.head_mm.head<2>());
     if (it->second.has_depth) zb += base.mesh.vertices[v].z(), zo += it->second.head_mm.z(), ++nz;
   }
-  Alignment a = align_by_boundary(base, data);
-  if (b.size() >= 3) {
-    const Spread sb = spread_of(b), so = spread_of(o);
-    if (sb.rms.minCoeff() > 1e-6 && so.rms.minCoeff() > 1e-6) {
-      a.scale.head<2>() = so.rms.cwiseQuotient(sb.rms);  // seed 002 §3.3.1: x, y separately
-      a.translation.head<2>() = so.centre - a.scale.head<2>().cwiseProduct(sb.centre);
-    }
-  }
+  Alignment a = align_by_boundary(data);
+  if (b.size() < 3) return a;
+  const Spread sb = spread_of(b), so = spread_of(o);
+  if (sb.rms.minCoeff() < 1e-6 || so.rms.minCoeff() < 1e-6) return a;
+  a.scale.head<2>() = so.rms.cwiseQuotient(sb.rms);  // seed 002 §3.3.1: x, y separately
+  a.translation.head<2>() = so.centre - a.scale.head<2>().cwiseProduct(sb.centre);
   a.scale.z() = a.scale.x();  // z like x (seed 002, after Fleming and Dobbs)
   if (nz > 0) {
     a.translation.z() = (zo - a.scale.z() * zb) / nz;

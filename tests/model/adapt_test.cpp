@@ -142,6 +142,22 @@ TEST(Adapt, OutlierLimitFollowsTheMedianFeatureShift) {
   EXPECT_THROW(adapt(base, d, above), std::invalid_argument);
 }
 
+TEST(AlignBase, WithoutFeaturesTheNoseAndWidthPlaceTheBase) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1.1, 1.1, 1.1}, {3, -5, 2});
+  s.observation.front.features.clear();
+  s.observation.side.features.clear();
+  const Alignment a = align_base(base, stereo_match(s.observation, s.rig));
+  EXPECT_NEAR((a.scale - Eigen::Vector3d::Constant(1.1)).norm(), 0.0, 0.03);
+  // Any point of the face lands within a millimetre or two of its true place.
+  const Eigen::Vector3d nose = base.mesh.vertices[base.features.at("nose_tip")];
+  EXPECT_NEAR((a.scale.cwiseProduct(nose) + a.translation -
+               s.truth.mesh.vertices[base.features.at("nose_tip")]).norm(), 0.0, 1.0);
+  const Eigen::Vector3d chin = base.mesh.vertices[base.features.at("chin_bottom")];
+  EXPECT_NEAR((a.scale.cwiseProduct(chin) + a.translation -
+               s.truth.mesh.vertices[base.features.at("chin_bottom")]).norm(), 0.0, 3.0);
+}
+
 TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
   const BaseMesh base = base_mesh();
   auto s = testing::synthetic_face({1.1, 0.9, 1.1}, {2, -3, 1});
