@@ -192,7 +192,9 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
       retexture_ms_.push_back((capture::monotonic_now_s() - t) * 1e3);
     }
     const double t1 = capture::monotonic_now_s();
-    view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg)).view.image;
+    render::SynthesisOptions image_only;
+    image_only.depth = false;  // the output shows the image; depth readback would cost a frame
+    view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only).view.image;
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));
