@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -30,11 +31,12 @@ void main() {
   v_uv = uv;
 })";
 
-const char* kFragment = R"(#version 330 core
+// MODE (0 grey, 1 vertex colours, 2 texture) and LIT are compile-time: llvmpipe runs both
+// sides of a branch, so one program per case draws faster than one with uniform switches.
+const char* kFragmentBody = R"(
 in vec3 v_n;
 in vec3 v_col;
 in vec2 v_uv;
-uniform int mode;  // 0 grey, 1 vertex colours, 2 texture
 uniform int wire;
 uniform vec3 wire_color;
 uniform sampler2D tex;
@@ -44,14 +46,28 @@ uniform float diffuse;
 layout(location = 0) out vec4 color;
 void main() {
   if (wire == 1) { color = vec4(wire_color, 1.0); return; }
-  vec3 albedo = mode == 2 ? texture(tex, vec2(v_uv.x, 1.0 - v_uv.y)).rgb
-              : (mode == 1 ? v_col : vec3(0.8));
+#if MODE == 2
+  vec3 albedo = texture(tex, vec2(v_uv.x, 1.0 - v_uv.y)).rgb;
+#elif MODE == 1
+  vec3 albedo = v_col;
+#else
+  vec3 albedo = vec3(0.8);
+#endif
+#if LIT
   float len = length(v_n);
   vec3 n = len > 0.0 ? v_n / len : vec3(0.0);
   if (!gl_FrontFacing) n = -n;
   float shade = ambient + diffuse * max(0.0, dot(n, -light_dir));
+#else
+  float shade = ambient;
+#endif
   color = vec4(albedo * shade, 1.0);
 })";
+
+std::string fragment_source(int mode, bool lit) {
+  return "#version 330 core\n#define MODE " + std::to_string(mode) + "\n#define LIT " +
+         (lit ? "1" : "0") + "\n" + kFragmentBody;
+}
 
 constexpr int kCacheSize = 8;
 
@@ -114,19 +130,25 @@ struct Cached {
 
 struct Renderer::Impl {
   gl::Context context;
-  GLuint prog = 0;
+  GLuint programs[3][2] = {};  // [mesh mode][lit], compiled on first use
+  GLuint prog = 0;             // the program of the current draw
   gl::Framebuffer fb;
   std::vector<Cached> cache;
   uint64_t clock = 0;
 
-  Impl() {
-    prog = gl::program(kVertex, kFragment, "renderer");
-  }
   ~Impl() {
     context.make_current();
     for (auto& c : cache) c.mesh.release();
     fb.release();
-    glDeleteProgram(prog);
+    for (auto& by_lit : programs)
+      for (GLuint p : by_lit)
+        if (p) glDeleteProgram(p);
+  }
+
+  GLuint program_for(int mode, bool lit) {
+    GLuint& p = programs[mode][lit];
+    if (!p) p = gl::program(kVertex, fragment_source(mode, lit).c_str(), "renderer");
+    return p;
   }
 
   // The cached upload of `m`, uploading (after check_mesh) on a miss.
@@ -151,9 +173,9 @@ struct Renderer::Impl {
     const auto nf = gl::near_far(camera, g.lo, g.hi);
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
     const Eigen::Vector3d d = o.light.direction_head.normalized();
+    prog = program_for(g.mode, o.light.diffuse != 0.0);
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "clip_from_head"), 1, GL_FALSE, clip.data());
-    glUniform1i(glGetUniformLocation(prog, "mode"), g.mode);
     glUniform1i(glGetUniformLocation(prog, "tex"), 0);
     glUniform3f(glGetUniformLocation(prog, "light_dir"), float(d.x()), float(d.y()),
                 float(d.z()));
