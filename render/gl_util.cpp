@@ -178,25 +178,34 @@ std::array<float, 4> zcam_row(const capture::CameraModel& c) {
   return {float(m(2, 0)), float(m(2, 1)), float(m(2, 2)), float(m(2, 3))};
 }
 
+cv::Mat fit_texture_limit(const cv::Mat& image) {
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  if (image.cols <= max_size && image.rows <= max_size) return image;
+  cv::Mat out;
+  const double s = double(max_size) / std::max(image.cols, image.rows);
+  cv::resize(image, out, cv::Size(), s, s, cv::INTER_AREA);
+  return out;
+}
+
+void linear_clamp_parameters() {
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
+    glTexParameteri(GL_TEXTURE_2D, wrap, GL_CLAMP_TO_EDGE);
+}
+
 GLuint upload_texture(const cv::Mat& image, GLuint tex) {
   cv::Mat rgba;
   if (image.channels() == 4) cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
   else cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
-  GLint max_size = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-  if (rgba.cols > max_size || rgba.rows > max_size) {
-    const double s = double(max_size) / std::max(rgba.cols, rgba.rows);
-    cv::resize(rgba, rgba, cv::Size(), s, s, cv::INTER_AREA);
-  }
+  rgba = fit_texture_limit(rgba);
   if (!tex) glGenTextures(1, &tex);
   glBindTexture(GL_TEXTURE_2D, tex);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, rgba.cols, rgba.rows, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                rgba.data);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  linear_clamp_parameters();
   return tex;
 }
 

@@ -94,6 +94,12 @@ std::array<float, 4> zcam_row(const capture::CameraModel& camera);
 // becomes t = 0. Reuses `tex` when non-zero. Large images are downscaled to the GL limit.
 GLuint upload_texture(const cv::Mat& bgr, GLuint tex);
 
+// `image`, downscaled (INTER_AREA) when a side exceeds GL_MAX_TEXTURE_SIZE, else itself.
+cv::Mat fit_texture_limit(const cv::Mat& image);
+
+// Bilinear filtering and edge clamping for the bound 2D texture.
+void linear_clamp_parameters();
+
 // Per-vertex area-weighted normals (unit; zero for isolated vertices).
 std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh);
 

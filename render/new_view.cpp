@@ -41,25 +41,11 @@ struct SourceGl {
 
 constexpr int kLutSize = 33;  // equalisation lookup grid per axis (trilinear in between)
 
-// Bilinear filtering and edge clamping for the bound 2D texture.
-void linear_clamp_parameters() {
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T})
-    glTexParameteri(GL_TEXTURE_2D, wrap, GL_CLAMP_TO_EDGE);
-}
-
 // Uploads 8-bit BGR `bgr` into the RGBA8 texture `tex` with linear filtering; image row 0 is
 // t = 0. Allocates only on the first call or a size change (else glTexSubImage2D). Images larger
 // than GL_MAX_TEXTURE_SIZE are downscaled (the shader samples in normalised coordinates).
 void upload_bgr(const cv::Mat& bgr, GLuint& tex, cv::Size& allocated) {
-  GLint max_size = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-  cv::Mat image = bgr;
-  if (image.cols > max_size || image.rows > max_size) {
-    const double s = double(max_size) / std::max(image.cols, image.rows);
-    cv::resize(bgr, image, cv::Size(), s, s, cv::INTER_AREA);
-  }
+  cv::Mat image = gl::fit_texture_limit(bgr);
   if (!image.isContinuous()) image = image.clone();
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (!tex) glGenTextures(1, &tex);
@@ -71,7 +57,7 @@ void upload_bgr(const cv::Mat& bgr, GLuint& tex, cv::Size& allocated) {
   }
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.cols, image.rows, 0, GL_BGR, GL_UNSIGNED_BYTE,
                image.data);
-  linear_clamp_parameters();
+  gl::linear_clamp_parameters();
   allocated = image.size();
 }
 
@@ -100,7 +86,7 @@ void ensure_target(GLuint& tex, cv::Size& allocated, GLuint& fbo, cv::Size size)
   glBindTexture(GL_TEXTURE_2D, tex);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size.width, size.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
                nullptr);
-  linear_clamp_parameters();
+  gl::linear_clamp_parameters();
   if (!fbo) glGenFramebuffers(1, &fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
@@ -123,7 +109,7 @@ void upload_lut(const cv::Mat& grid, GLuint& tex) {
   glBindTexture(GL_TEXTURE_2D, tex);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, n * n, n, 0, GL_BGR, GL_FLOAT, atlas.data);
-  linear_clamp_parameters();
+  gl::linear_clamp_parameters();
 }
 
 }  // namespace
@@ -199,7 +185,7 @@ void ViewSynthesizer::Impl::render_source_depth(int i) {
   glBindTexture(GL_TEXTURE_2D, s.zmap);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
                GL_FLOAT, nullptr);
-  linear_clamp_parameters();
+  gl::linear_clamp_parameters();
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
   GLuint fbo = 0;

@@ -131,7 +131,6 @@ struct Cached {
 struct Renderer::Impl {
   gl::Context context;
   GLuint programs[3][2] = {};  // [mesh mode][lit], compiled on first use
-  GLuint prog = 0;             // the program of the current draw
   gl::Framebuffer fb;
   std::vector<Cached> cache;
   uint64_t clock = 0;
@@ -168,12 +167,13 @@ struct Renderer::Impl {
     return cache.back().mesh;
   }
 
-  void uniforms(const gl::GpuMesh& g, const capture::CameraModel& camera,
-                const RenderOptions& o) {
+  // Selects the program for `g` and `o` and sets its uniforms; returns it.
+  GLuint uniforms(const gl::GpuMesh& g, const capture::CameraModel& camera,
+                  const RenderOptions& o) {
     const auto nf = gl::near_far(camera, g.lo, g.hi);
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
     const Eigen::Vector3d d = o.light.direction_head.normalized();
-    prog = program_for(g.mode, o.light.diffuse != 0.0);
+    const GLuint prog = program_for(g.mode, o.light.diffuse != 0.0);
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "clip_from_head"), 1, GL_FALSE, clip.data());
     glUniform1i(glGetUniformLocation(prog, "tex"), 0);
@@ -183,9 +183,10 @@ struct Renderer::Impl {
     glUniform1f(glGetUniformLocation(prog, "diffuse"), float(o.light.diffuse));
     glUniform3f(glGetUniformLocation(prog, "wire_color"), float(o.wireframe_color[2] / 255),
                 float(o.wireframe_color[1] / 255), float(o.wireframe_color[0] / 255));
+    return prog;
   }
 
-  void draw(const gl::GpuMesh& g, const RenderOptions& o) {
+  void draw(GLuint prog, const gl::GpuMesh& g, const RenderOptions& o) {
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
@@ -236,8 +237,7 @@ RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraM
   glClearBufferfv(GL_DEPTH, 0, &one);
   const auto nf = gl::near_far(camera, g.lo, g.hi);
   if (nf[1] > nf[0]) {
-    impl_->uniforms(g, camera, options);
-    impl_->draw(g, options);
+    impl_->draw(impl_->uniforms(g, camera, options), g, options);
   }
   return gl::read_result(camera.width, camera.height, nf,
                          camera.projection == capture::Projection::Perspective, options.read_depth);
