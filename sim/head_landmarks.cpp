@@ -68,6 +68,36 @@ struct Profile {
   }
 };
 
+// Pogonion: the most projecting point of the chin prominence, i.e. the lowest local maximum
+// of z between the lower lip and the menton that stands 0.3 mm over the labiomental fold above
+// it. A retruded chin without such a bump has its most anterior chin point where the profile
+// turns vertical: the flattest slope within 25 mm above the menton. (A plain maximum of z up to
+// just under the lower lip took the top of that range on retruded chins, whose profile keeps
+// rising toward the lip.)
+size_t pogonion(const Profile& p, double y_menton, double y_lip_lower) {
+  const double step = p.y[0] - p.y[1], y_top = y_lip_lower - 2;
+  const int win = std::max(1, int(std::lround(3.0 / step))), fold = int(std::lround(15.0 / step));
+  const int n = int(p.y.size());
+  for (int k = n - 1 - win; k >= win; --k) {  // from the bottom up
+    if (p.y[k] < y_menton - 2) continue;
+    if (p.y[k] > y_top) break;
+    bool peak = true;
+    for (int j = k - win; j <= k + win && peak; ++j) peak = p.z[j] <= p.z[k];
+    if (!peak) continue;
+    double z_fold = p.z[k];
+    for (int j = k - 1; j >= std::max(0, k - fold) && p.y[j] <= y_top; --j) z_fold = std::min(z_fold, p.z[j]);
+    if (p.z[k] - z_fold >= 0.3) return size_t(k);
+  }
+  size_t best = 0;
+  double flat = 1e300;
+  for (int k = 1; k + 1 < n; ++k) {
+    if (p.y[k] < y_menton || p.y[k] > std::min(y_top, y_menton + 25)) continue;
+    const double slope = std::abs((p.z[k - 1] - p.z[k + 1]) / (p.y[k - 1] - p.y[k + 1]));
+    if (slope < flat) flat = slope, best = size_t(k);
+  }
+  return best;
+}
+
 // Midline profile landmarks (DESIGN: side view): heights on the profile through the nose.
 std::map<std::string, double> profile_heights(const HeadSurface& s, double theta) {
   const HeadAnchors& a = s.anchors();
@@ -83,7 +113,7 @@ std::map<std::string, double> profile_heights(const HeadSurface& s, double theta
   const size_t bridge = p.best(p.y[tip] + 8, a.y_nasion + 9, [](double, double z) { return -z; });
   const size_t lu = p.best(a.y_mouth, a.y_sub - 1, zmax);
   const size_t ll = p.best(a.y_mouth - 14, a.y_mouth, zmax);
-  const size_t chin = p.best(a.y_menton - 10, p.y[ll] - 8, zmax);
+  const size_t chin = pogonion(p, a.y_menton, p.y[ll]);
   // Subnasale: the deepest point below the chord from the nose tip to the upper lip.
   const Eigen::Vector2d T(p.z[tip], p.y[tip]), L(p.z[lu], p.y[lu]);
   Eigen::Vector2d nrm(-(L - T).y(), (L - T).x());
