@@ -30,15 +30,41 @@ Feature2d make(cv::Point2d p, double conf, const std::string& method) {
   return f;
 }
 
-// Binary map of pixels inside `roi` whose Lab colour is farther than `tau` from the skin.
-cv::Mat non_skin(const FilterContext& c, const cv::Rect& roi, double tau) {
+// Skin colour around a small feature: the per-channel median Lab of the window's 2-px frame
+// (mostly skin, and lit like the feature; the cheek sample can differ by a shading step).
+cv::Vec3f frame_skin(const FilterContext& c, const cv::Rect& roi) {
+  std::vector<uchar> ch[3];
+  for (int r = 0; r < roi.height; ++r) {
+    const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(roi.y + r) + roi.x;
+    const bool edge_row = r < 2 || r >= roi.height - 2;
+    for (int x = 0; x < roi.width; ++x)
+      if (edge_row || x < 2 || x >= roi.width - 2)
+        for (int k = 0; k < 3; ++k) ch[k].push_back(p[x][k]);
+  }
+  cv::Vec3f s;
+  for (int k = 0; k < 3; ++k) {
+    std::nth_element(ch[k].begin(), ch[k].begin() + ch[k].size() / 2, ch[k].end());
+    s[k] = ch[k][ch[k].size() / 2];
+  }
+  return s;
+}
+
+// Binary map of pixels inside `roi` that are not skin: chroma (Lab a*, b*) farther than `tau`
+// from `skin`, much darker than it, or whitish (the sclera: not darker than the skin and under
+// 60 % of its saturation). Lightness alone is left out: shading on a curved face changes it by
+// 50 units within an eye window while the skin's chroma stays put.
+cv::Mat non_skin(const FilterContext& c, const cv::Rect& roi, cv::Vec3f skin, double tau) {
   cv::Mat m(roi.size(), CV_8U);
+  const float dark = 0.55f * skin[0], tau2 = float(tau * tau);
+  const float sat2 = 0.36f * ((skin[1] - 128) * (skin[1] - 128) + (skin[2] - 128) * (skin[2] - 128));
   for (int r = 0; r < roi.height; ++r) {
     const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(roi.y + r) + roi.x;
     uchar* o = m.ptr<uchar>(r);
     for (int x = 0; x < roi.width; ++x) {
-      const double d = cv::norm(cv::Vec3f(p[x][0], p[x][1], p[x][2]) - c.skin);
-      o[x] = d > tau ? 255 : 0;
+      const float da = p[x][1] - skin[1], db = p[x][2] - skin[2];
+      const float a = p[x][1] - 128.f, b = p[x][2] - 128.f;
+      const bool white = p[x][0] >= skin[0] && a * a + b * b < sat2;
+      o[x] = (da * da + db * db > tau2 || p[x][0] < dark || white) ? 255 : 0;
     }
   }
   return m;
@@ -119,7 +145,7 @@ EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double
   double contrast = 0;
   const cv::Point iris = darkest(c, win, std::max(1.0, 0.012 * W), &contrast);
   const cv::Rect band = clip_to(c, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
-  cv::Mat m = non_skin(c, band, 22.0);
+  cv::Mat m = non_skin(c, band, frame_skin(c, band), 12.0);
   cv::morphologyEx(m, m, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
   const Blob b = blob_at(m, iris - band.tl());
   e.centre = cv::Point2d(iris);
