@@ -105,6 +105,33 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
   return (mx / mn - sx / sn) / (0.1 * depth);
 }
 
+// The face side of a profile shows lit skin right at the blob's edge over the face rows
+// (forehead, nose, lips, chin); the back shows hair there (brown hair passes the YCrCb skin box,
+// but it is darker). Mean skin likelihood x luma of a few pixels inside the left edge over the
+// rows [top + 0.3 h, top + 0.8 h], minus the same on the right, over the larger of the two:
+// > 0 when the left edge is the lit skin.
+double edge_skin(const cv::Mat& bgr, const RowExtent& e, double h) {
+  const int r0 = std::max(0, int(e.top + 0.3 * h)), r1 = std::min(e.bottom, int(e.top + 0.8 * h));
+  const int inset = std::max(2, int(0.01 * h)), span = std::max(3, int(0.02 * h));
+  int n = 0;
+  double left = 0, right = 0;
+  const auto lit_skin = [&](int r, int c0, int dir) {
+    double s = 0;
+    for (int d = inset; d < inset + span; ++d) {
+      const YCrCb y = to_ycrcb(bgr.at<cv::Vec3b>(r, std::clamp(c0 + dir * d, 0, bgr.cols - 1)));
+      s += skin_likelihood(y) * y.luma;
+    }
+    return s / span;
+  };
+  for (int r = r0; r <= r1; r += 2) {
+    if (e.left[r] < 0 || e.right[r] - e.left[r] < 2 * (inset + span)) continue;
+    ++n;
+    left += lit_skin(r, e.left[r], 1);
+    right += lit_skin(r, e.right[r], -1);
+  }
+  return n < 5 || left + right <= 0 ? 0.0 : (left - right) / std::max(left, right);
+}
+
 // +1 when only the blob's left side reads as a face profile, -1 when only its right side does,
 // 0 when both or neither (the other cues decide).
 double face_profile_side(const cv::Mat& mask, const RowExtent& e, double h) {
@@ -129,7 +156,7 @@ bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confide
   const double h = head_height_estimate(e, min_head_height_px);
   // Cues: the nose bump sticks out on the face side; the neck stands behind the face (only
   // when those rows are narrower than the head: wider, they are the torso); skin lies on
-  // the face side of the hair.
+  // the face side of the hair; lit skin lines the face-side edge.
   const cv::Point2d p = side_protrusions(e, int(e.top + 0.3 * h), int(e.top + 0.85 * h));
   const double bump = (p.x - p.y) / std::max(4.0, 0.04 * h);
   double neck = 0, neck_w = 0, head_w = 0;
@@ -140,11 +167,13 @@ bool profile_faces_left(const cv::Mat& mask, const cv::Mat& bgr, double* confide
     if (e.left[r] >= 0) head_w = std::max(head_w, double(e.right[r] - e.left[r]));
   if (nr > 0 && neck_w / nr < head_w) neck = neck_offset(e, h) / std::max(4.0, 0.05 * h);
   const double skin = bgr.empty() ? 0.0 : skin_offset(mask, bgr, e, h);
+  const double edge = bgr.empty() ? 0.0 : edge_skin(bgr, e, h);
   // The strongest cue: only the face side of the blob reads as a profile with a chin (hair as
   // dark as the background leaves a skin-only blob whose back edge the other cues misjudge).
   const double shape = face_profile_side(mask, e, h);
   const double vote = std::clamp(bump, -2.0, 2.0) + 2.0 * std::clamp(neck, -2.0, 2.0) +
-                      3.0 * std::clamp(skin, -2.0, 2.0) + 12.0 * shape;
+                      3.0 * std::clamp(skin, -2.0, 2.0) + 2.0 * std::clamp(edge / 0.2, -2.0, 2.0) +
+                      12.0 * shape;
   if (confidence) *confidence = std::clamp(std::abs(vote) / 2.0, 0.0, 1.0);
   return vote >= 0;
 }
