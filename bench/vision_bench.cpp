@@ -3,6 +3,8 @@
 //   vision_bench stages [reps]         median CPU ms of each vision stage on the same pair
 //   (VISION_THREADS=N sets cv::setNumThreads for speed / stages)
 //   vision_bench sim [subjects]        accuracy over sim subjects, ideal rig, 4 conditions
+//   vision_bench simshow SEED OUT [COND]  one sim subject: truth (green) vs detection overlays,
+//                                      per-landmark truth / detected px and error
 //   vision_bench frmdb DIR OUT         real FRMDB pairs (Img_33 front, Img_53 side), overlays in OUT
 //   vision_bench ibug DIR              eye / nose / mouth centre error / inter-ocular distance
 #include <algorithm>
@@ -14,6 +16,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "sim/head.h"
 #include "sim/rig.h"
@@ -143,6 +146,77 @@ int accuracy(int subjects) {
   return 0;
 }
 
+// One subject in detail: overlays (front, side) with the truth drawn as green crosses, x3.
+int simshow(int seed, const std::string& outdir, const std::string& cond) {
+  std::filesystem::create_directories(outdir);
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(seed)), condition(cond, seed));
+  const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
+  cv::Mat f = ov::overlay_front(cap.front, obs), s = ov::overlay_side(cap.side, obs);
+  const double k = 3;
+  cv::resize(f, f, {}, k, k, cv::INTER_NEAREST);
+  cv::resize(s, s, {}, k, k, cv::INTER_NEAREST);
+  json out = json::object();
+  const auto cross = [&](cv::Mat& m, const Eigen::Vector2d& p) {
+    const cv::Point2d c((p.x() - 0.5) * k, (p.y() - 0.5) * k);
+    cv::line(m, c - cv::Point2d(6, 6), c + cv::Point2d(6, 6), cv::Scalar(0, 255, 0), 2);
+    cv::line(m, c - cv::Point2d(6, -6), c + cv::Point2d(6, -6), cv::Scalar(0, 255, 0), 2);
+  };
+  for (const auto& [name, t] : cap.landmarks) {
+    json r = json::object();
+    if (t.visible_front) {
+      cross(f, t.front_px);
+      r["front_truth"] = {t.front_px.x(), t.front_px.y()};
+      if (auto it = obs.front.features.find(name); it != obs.front.features.end())
+        r["front_found"] = {it->second.px.x, it->second.px.y},
+        r["front_err"] = std::hypot(it->second.px.x - t.front_px.x(), it->second.px.y - t.front_px.y()),
+        r["front_method"] = it->second.method;
+    }
+    if (t.visible_side) {
+      cross(s, t.side_px);
+      r["side_truth"] = {t.side_px.x(), t.side_px.y()};
+      if (auto it = obs.side.features.find(name); it != obs.side.features.end())
+        r["side_found"] = {it->second.px.x, it->second.px.y},
+        r["side_err"] = std::hypot(it->second.px.x - t.side_px.x(), it->second.px.y - t.side_px.y()),
+        r["side_method"] = it->second.method;
+    }
+    out[name] = r;
+  }
+  const std::string base = outdir + "/sim" + std::to_string(seed) + "_" + cond;
+  cv::imwrite(base + "_front.png", f);
+  cv::imwrite(base + "_side.png", s);
+  // Close-ups around the face (front) and the profile below the brows (side).
+  const auto crop = [&](const cv::Mat& m, cv::Rect r) { return m(r & cv::Rect(0, 0, m.cols, m.rows)); };
+  if (cap.landmarks.count("nose_tip")) {
+    const Eigen::Vector2d tf = cap.landmarks.at("nose_tip").front_px, ts = cap.landmarks.at("nose_tip").side_px;
+    cv::imwrite(base + "_frontcrop.png", crop(f, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k), int(150 * k))));
+    cv::Mat raw;
+    cv::resize(cap.front, raw, {}, k, k, cv::INTER_NEAREST);
+    cv::imwrite(base + "_frontraw.png", crop(raw, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k), int(150 * k))));
+    cv::imwrite(base + "_sidecrop.png", crop(s, cv::Rect(int((ts.x() - 30) * k), int((ts.y() - 70) * k), int(110 * k), int(160 * k))));
+  }
+  json sil = json::array();  // first head column of each side-mask row (the true silhouette)
+  for (int r = 0; r < cap.side_mask.rows; ++r) {
+    int c = 0;
+    while (c < cap.side_mask.cols && !cap.side_mask.at<uchar>(r, c)) ++c;
+    sil.push_back(c);
+  }
+  std::cout << json{{"seed", seed}, {"condition", cond}, {"landmarks", out}, {"side_mask_first_col", sil}, {"warnings", obs.warnings}}.dump(1) << "\n";
+  return 0;
+}
+
+// The front photo with the front features as small dots (red found, magenta mirrored, yellow
+// position model) and no labels, for close-ups.
+cv::Mat points_only(const cv::Mat& front, const ov::FaceObservation& obs) {
+  cv::Mat m = ov::to_bgr8(front, "front");
+  for (const auto& [name, f] : obs.front.features) {
+    const cv::Scalar col = f.mirrored ? cv::Scalar(255, 0, 255)
+                           : f.method.find("position-model") != std::string::npos ? cv::Scalar(0, 255, 255)
+                                                                                 : cv::Scalar(0, 0, 255);
+    cv::circle(m, f.px - cv::Point2d(0.5, 0.5), 1, col, cv::FILLED);
+  }
+  return m;
+}
+
 int frmdb(const std::string& dir, const std::string& outdir) {
   std::filesystem::create_directories(outdir);
   json res = json::array();
@@ -167,6 +241,7 @@ int frmdb(const std::string& dir, const std::string& outdir) {
       r["side_faces_left"] = obs.side_faces_left;
       r["warnings"] = obs.warnings;
       cv::imwrite(outdir + "/" + p + ".png", ov::overlay_pair(front, side, obs));
+      cv::imwrite(outdir + "/" + p + "_points.png", points_only(front, obs));
     } catch (const std::exception& e) {
       r["complete"] = false;
       r["error"] = e.what();
@@ -242,12 +317,13 @@ int main(int argc, char** argv) {
     if (mode == "speed") return speed(argc > 2 ? std::stoi(argv[2]) : 50);
     if (mode == "stages") return stages(argc > 2 ? std::stoi(argv[2]) : 30);
     if (mode == "sim") return accuracy(argc > 2 ? std::stoi(argv[2]) : 20);
+    if (mode == "simshow" && argc > 3) return simshow(std::stoi(argv[2]), argv[3], argc > 4 ? argv[4] : "ideal");
     if (mode == "frmdb" && argc > 3) return frmdb(argv[2], argv[3]);
     if (mode == "ibug" && argc > 2) return ibug(argv[2]);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] | frmdb DIR OUT | ibug DIR\n";
+  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
   return 2;
 }
