@@ -123,13 +123,25 @@ double neck_offset(const RowExtent& e, double h) {
   return n ? s / n - head_mid : 0.0;
 }
 
-double head_width(const RowExtent& e) {
-  double m = 0;
-  for (int r = e.top; r >= 0 && r <= e.bottom; ++r) {
-    if (e.left[r] >= 0) m = std::max(m, double(e.right[r] - e.left[r] + 1));
-    if (r - e.top > 0.9 * m && m > 10) break;
+double head_width(const RowExtent& e, bool stop_at_widening) {
+  if (e.top < 0) return 0;
+  const auto width = [&](int r) { return e.left[r] >= 0 ? double(e.right[r] - e.left[r] + 1) : 0.0; };
+  double widest = 0;  // of the whole blob: a hair tuft on top is far narrower
+  for (int r = e.top; r <= e.bottom; ++r) widest = std::max(widest, width(r));
+  std::vector<double> m{0.0};  // m[i]: widest row among the first i rows
+  for (int r = e.top; r <= e.bottom; ++r) {
+    const double mr = m.back();
+    const int k = std::max(3, int(0.2 * mr));
+    const double grow = r - k >= e.top ? width(r) - width(r - k) : 1e9;
+    // Front view: past half a head below the top, a blob widening by 1.5 px a row over 0.2 m
+    // rows is reaching the shoulders (or a hood or collar around the head): the width from
+    // before the widening.
+    if (stop_at_widening && mr > 0.25 * widest && r - e.top > 0.5 * mr && grow > 1.5 * k)
+      return m[size_t(r - k - e.top)];
+    if (r - e.top > 0.9 * mr && mr > 10) break;
+    m.push_back(std::max(mr, width(r)));
   }
-  return m;
+  return m.back();
 }
 
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& p, double step) {

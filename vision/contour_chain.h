@@ -30,8 +30,12 @@ cv::Point2d side_protrusions(const RowExtent& extent, int r0, int r1);
 double neck_offset(const RowExtent& extent, double head_height);
 
 // Width of the widest row of the head part of a blob: rows from the top until the depth below
-// it exceeds 0.9 x the widest row so far (shoulders further down do not count). 0 when empty.
-double head_width(const RowExtent& extent);
+// it exceeds 0.9 x the widest row so far (shoulders further down do not count). With
+// `stop_at_widening` (a front view, whose head sides run down vertically), also stop where,
+// past half that depth, the blob widens by 1.5 px a row (shoulders, a hood around the head),
+// taking the width from before the widening. A side view's blob legitimately widens there
+// (nose, chin). 0 when empty.
+double head_width(const RowExtent& extent, bool stop_at_widening = false);
 
 // Polyline resampled at equal arc-length steps of `step_px` (> 0).
 std::vector<cv::Point2d> resample(const std::vector<cv::Point2d>& polyline, double step_px);

@@ -145,10 +145,10 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   obs.side.width = side.cols, obs.side.height = side.rows;
   // The front blob first: its head width bounds the side view's head height from below (a head
   // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
-  // underestimates.
+  // underestimates. A hood or collar widening the blob below the head does not count.
   const FrontHead head = segment_front(front, bgf);
   const double row_scale = double(front.rows) / side.rows;
-  const double min_h = head.mask.empty() ? 0.0 : kHeightPerWidth * head_width(row_extent(head.mask)) / row_scale;
+  const double min_h = head.mask.empty() ? 0.0 : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
   const SideResult s = observe_side(side, bgs, o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
   observe_front(front, bgf, head, s.profile, row_scale, o, obs);

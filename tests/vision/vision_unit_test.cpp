@@ -152,6 +152,19 @@ TEST(ContourChain, HeadWidthIgnoresTheShoulders) {
   EXPECT_THROW(ov::row_extent(cv::Mat()), std::invalid_argument);
 }
 
+TEST(ContourChain, FrontHeadWidthStopsAtAHood) {
+  // A head whose blob runs straight into a hood widening from its cheeks (no neck in between):
+  // the plain walk takes the hood's width, the front-view walk stops where the widening starts.
+  cv::Mat mask(500, 500, CV_8U, cv::Scalar(0));
+  cv::ellipse(mask, {250, 120}, {60, 80}, 0, 0, 360, cv::Scalar(255), cv::FILLED);  // 121 px wide
+  std::vector<cv::Point> hood = {{190, 130}, {310, 130}, {480, 330}, {20, 330}};
+  cv::fillConvexPoly(mask, hood, cv::Scalar(255));
+  mask(cv::Rect(20, 330, 461, 170)).setTo(255);
+  EXPECT_GT(ov::head_width(ov::row_extent(mask)), 200);
+  EXPECT_NEAR(ov::head_width(ov::row_extent(mask), true), 121, 6);
+  EXPECT_EQ(ov::head_width(ov::row_extent(cv::Mat(10, 10, CV_8U, cv::Scalar(0))), true), 0.0);
+}
+
 TEST(ImagePrep, ConvertsGreySixteenBitAndAlpha) {
   cv::Mat g16(64, 64, CV_16U, cv::Scalar(1000));
   g16.at<uint16_t>(0, 0) = 4000;
