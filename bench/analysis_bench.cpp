@@ -2,13 +2,17 @@
 // geodesic matrices at 550..1760 vertices, plus 10k and 50k), geodesic accuracy against the
 // analytic sphere and CGAL's exact Surface_mesh_shortest_path (reference only), and features on
 // sim heads and the two scans.
-// Usage: analysis_bench [--quick | --timing | --features N_HEADS]
+// Usage: analysis_bench [--quick | --timing [REPS [MAX_VERTICES]] | --accuracy | --features N_HEADS]
+// (--timing: each matrix REPS times, median and min of wall and CPU time, sizes up to MAX_VERTICES)
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <ctime>
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -40,34 +44,52 @@ model::TriMesh sim_mesh(int seed, int triangles) {
   return model::analysis_mesh(sim::make_head(sim::head_params(seed), o).mesh, "bench").mesh;
 }
 
-nlohmann::json timing_row(const model::TriMesh& m) {
-  const int n = int(m.vertices.size());
-  nlohmann::json row{{"vertices", n}, {"triangles", m.triangles.size()}};
-  auto t0 = Clock::now();
-  const auto nb = model::vertex_neighbors(m);
-  row["neighbour_ms"] = ms_since(t0);
-  if (n <= 12000) {
-    t0 = Clock::now();
-    const auto e = model::euclidean_matrix(m);
-    row["euclidean_matrix_ms"] = ms_since(t0);
+// Wall and CPU time (all threads) of `reps` runs of f: min and median of each.
+template <class F>
+void time_into(nlohmann::json& row, const std::string& name, int reps, F f) {
+  std::vector<double> wall, cpu;
+  for (int r = 0; r < reps; ++r) {
+    const auto t0 = Clock::now();
+    const std::clock_t c0 = std::clock();
+    f();
+    wall.push_back(ms_since(t0));
+    cpu.push_back(1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC);
   }
+  std::sort(wall.begin(), wall.end());
+  std::sort(cpu.begin(), cpu.end());
+  row[name + "_ms"] = wall[reps / 2];  // median
+  row[name + "_ms_min"] = wall[0];
+  row[name + "_cpu_ms"] = cpu[reps / 2];
+  row[name + "_cpu_ms_min"] = cpu[0];
+}
+
+nlohmann::json timing_row(const model::TriMesh& m, int reps) {
+  const int n = int(m.vertices.size());
+  nlohmann::json row{{"vertices", n}, {"triangles", m.triangles.size()}, {"repetitions", reps}};
+  time_into(row, "neighbour", reps, [&] { model::vertex_neighbors(m); });
+  if (n <= 12000) time_into(row, "euclidean_matrix", reps, [&] { model::euclidean_matrix(m); });
   if (n <= 2000) {  // wall time, and CPU time of all threads (the machine may be shared)
-    t0 = Clock::now();
-    std::clock_t c0 = std::clock();
-    const auto g = model::geodesic_matrix(m, model::GeodesicMethod::kFastMarching);
-    row["geodesic_matrix_fmm_ms"] = ms_since(t0);
-    row["geodesic_matrix_fmm_cpu_ms"] = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
-    t0 = Clock::now();
-    c0 = std::clock();
-    const auto d = model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph);
-    row["geodesic_matrix_dijkstra_ms"] = ms_since(t0);
-    row["geodesic_matrix_dijkstra_cpu_ms"] = 1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC;
+    time_into(row, "geodesic_matrix_fmm", reps,
+              [&] { model::geodesic_matrix(m, model::GeodesicMethod::kFastMarching); });
+    time_into(row, "geodesic_matrix_dijkstra", reps,
+              [&] { model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph); });
   } else {  // n single-source runs, timed on 20 and scaled (memory 4 n^2 bytes)
     model::GeodesicSolver solver(m);
-    t0 = Clock::now();
-    for (int s = 0; s < 20; ++s) solver.distances({s * (n / 20)});
-    row["geodesic_single_source_ms"] = ms_since(t0) / 20.0;
-    row["geodesic_matrix_fmm_ms_extrapolated"] = ms_since(t0) / 20.0 * n;
+    std::vector<float> row_values(n);
+    time_into(row, "geodesic_single_source_fmm", reps, [&] {
+      for (int s = 0; s < 20; ++s) solver.distances_into(s * (n / 20), row_values.data());
+    });
+    for (const char* k : {"_ms", "_ms_min", "_cpu_ms", "_cpu_ms_min"})
+      row[std::string("geodesic_single_source_fmm") + k] =
+          row[std::string("geodesic_single_source_fmm") + k].get<double>() / 20.0;
+    row["geodesic_matrix_fmm_cpu_ms_extrapolated"] =
+        row["geodesic_single_source_fmm_cpu_ms"].get<double>() * n;
+    time_into(row, "geodesic_single_source_dijkstra", reps, [&] {
+      for (int s = 0; s < 20; ++s) model::edge_graph_distances(m, {s * (n / 20)});
+    });
+    for (const char* k : {"_ms", "_ms_min", "_cpu_ms", "_cpu_ms_min"})
+      row[std::string("geodesic_single_source_dijkstra") + k] =
+          row[std::string("geodesic_single_source_dijkstra") + k].get<double>() / 20.0;
   }
   return row;
 }
@@ -286,6 +308,9 @@ int main(int argc, char** argv) {
   const bool quick = argc > 1 && !std::strcmp(argv[1], "--quick");
   const bool features_only = argc > 1 && !std::strcmp(argv[1], "--features");
   const bool timing_only = argc > 1 && !std::strcmp(argv[1], "--timing");
+  const bool accuracy_only = argc > 1 && !std::strcmp(argv[1], "--accuracy");
+  const int reps = timing_only && argc > 2 ? std::max(1, std::atoi(argv[2])) : 1;
+  const int max_vertices = timing_only && argc > 3 ? std::atoi(argv[3]) : 1 << 30;
   const std::string data = ORTHOFACE_DATA_DIR;
   nlohmann::json out;
   if (features_only) {
@@ -294,12 +319,21 @@ int main(int argc, char** argv) {
     std::printf("%s\n", out.dump(2).c_str());
     return 0;
   }
+  if (accuracy_only) {
+    out["sphere_accuracy"] = {sphere_accuracy(4), sphere_accuracy(5), sphere_accuracy(6)};
+    out["scan_accuracy"] = {
+        scan_accuracy("lee_perry_smith", data + "/lee_perry_smith_head/LeePerrySmith.obj"),
+        scan_accuracy("nefertiti", data + "/nefertiti_scan/nefertiti-lowres.obj")};
+    std::printf("%s\n", out.dump(2).c_str());
+    return 0;
+  }
   // Seed 000 Tables 1-3 sizes (target triangles ~ 2 x vertices on a closed head).
   std::vector<int> sizes = {550, 725, 794, 900, 1073, 1760, 10000};
   if (!quick) sizes.push_back(50000);
   for (int v : sizes) {
+    if (v > max_vertices) continue;
     try {
-      out["timing"].push_back(timing_row(sim_mesh(0, 2 * v)));
+      out["timing"].push_back(timing_row(sim_mesh(0, 2 * v), reps));
     } catch (const std::exception& e) {
       out["timing"].push_back({{"target_vertices", v}, {"skipped", e.what()}});
     }

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <queue>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -13,32 +12,6 @@ namespace orthoface::model {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-struct QueueItem {
-  double d;
-  int v;
-  bool operator>(const QueueItem& o) const { return d > o.d; }
-};
-using MinQueue = std::priority_queue<QueueItem, std::vector<QueueItem>, std::greater<>>;
-
-// Compressed vertex -> incident triangle lists.
-struct Incidence {
-  std::vector<int> start, tris;
-};
-
-Incidence incidence(const TriMesh& mesh) {
-  const size_t n = mesh.vertices.size();
-  Incidence inc;
-  inc.start.assign(n + 1, 0);
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) ++inc.start[t[k] + 1];
-  for (size_t i = 0; i < n; ++i) inc.start[i + 1] += inc.start[i];
-  inc.tris.resize(inc.start[n]);
-  std::vector<int> fill(inc.start.begin(), inc.start.end() - 1);
-  for (size_t f = 0; f < mesh.triangles.size(); ++f)
-    for (int k = 0; k < 3; ++k) inc.tris[fill[mesh.triangles[f][k]]++] = static_cast<int>(f);
-  return inc;
-}
 
 void check_sources(const TriMesh& mesh, const std::vector<int>& sources, const char* what,
                    const GeodesicOptions& options) {
@@ -52,25 +25,31 @@ void check_sources(const TriMesh& mesh, const std::vector<int>& sources, const c
                                   ")");
 }
 
-// Distance at C through the edge AB of triangle ABC, given dA, dB and the edge lengths. The
-// known vertices are unfolded into the plane (A at origin, B on +x, C above) and the source
-// they imply is the circle intersection below AB; if the straight ray from it to C crosses AB
-// the distance is exact for a planar patch, otherwise the edge paths bound it. Lengths only, so
-// no square root is spent on positions.
-double triangle_update(double ab, double ac, double bc, double da, double db) {
-  const double edge_bound = std::min(da + ac, db + bc);
-  if (ab <= 0.0) return edge_bound;
+// Corner C unfolded into the plane of the edge AB: A at the origin, B at (ab, 0), C at (x, y)
+// with y > 0, from the edge lengths; y = 0 if the triangle is degenerate.
+std::pair<double, double> unfold(double ab, double ac, double bc) {
+  if (!(ab > 0.0)) return {0.0, 0.0};
   const double cx = (ac * ac + ab * ab - bc * bc) / (2.0 * ab);
   const double cy2 = ac * ac - cx * cx;
-  if (cy2 <= 1e-18 * ac * ac) return edge_bound;  // degenerate triangle
-  const double cy = std::sqrt(cy2);
+  if (cy2 <= 1e-18 * ac * ac) return {0.0, 0.0};
+  return {cx, std::sqrt(cy2)};
+}
+
+// Distance at C through the edge AB with A and B accepted (C unfolded at (cx, cy) as above). The
+// source that dA, dB imply is placed below AB by circle intersection; if the straight ray from it
+// to C crosses AB the distance is exact for a planar patch, otherwise the edge paths bound it
+// (Kimmel & Sethian 1998 update with the unfolding of Surazhsky et al. 2005 §3). The crossing is
+// tested without a division: x = (sx cy - sy cx) / (cy - sy) with cy - sy > 0.
+inline double planar_update(double da, double db, double ab, double ac, double bc, double cx,
+                            double cy) {
+  const double edge_bound = std::min(da + ac, db + bc);
+  if (cy == 0.0) return edge_bound;
   const double sx = (da * da - db * db + ab * ab) / (2.0 * ab);
   const double sy2 = da * da - sx * sx;
   if (sy2 < 0.0) return edge_bound;  // |dA - dB| > |AB|: no consistent planar source
   const double sy = -std::sqrt(sy2);
-  const double t = -sy / (cy - sy);  // where the ray S->C meets y = 0
-  const double x = sx + t * (cx - sx);
-  if (x < 0.0 || x > ab) return edge_bound;
+  const double cross = sx * cy - sy * cx;
+  if (cross < 0.0 || cross > ab * (cy - sy)) return edge_bound;
   return std::min(edge_bound, std::sqrt((cx - sx) * (cx - sx) + (cy - sy) * (cy - sy)));
 }
 
@@ -106,18 +85,85 @@ std::vector<double> geodesic_distances(const TriMesh& mesh, const std::vector<in
 
 GeodesicSolver::GeodesicSolver(const TriMesh& mesh) {
   check_mesh(mesh, "GeodesicSolver");
-  vertices_ = mesh.vertices;
-  triangles_ = mesh.triangles;
-  Incidence inc = incidence(mesh);
-  start_ = std::move(inc.start);
-  tris_ = std::move(inc.tris);
-  edge_lengths_.reserve(triangles_.size());
-  for (const auto& t : triangles_)
-    edge_lengths_.push_back({(vertices_[t[1]] - vertices_[t[2]]).norm(),
-                             (vertices_[t[2]] - vertices_[t[0]]).norm(),
-                             (vertices_[t[0]] - vertices_[t[1]]).norm()});
-  dist_.assign(vertices_.size(), kInf);
-  done_.assign(vertices_.size(), 0);
+  const size_t n = mesh.vertices.size();
+  const auto& p = mesh.vertices;
+  start_.assign(n + 1, 0);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) ++start_[t[k] + 1];
+  for (size_t i = 0; i < n; ++i) start_[i + 1] += start_[i];
+  wedges_.resize(start_[n]);
+  std::vector<int> fill(start_.begin(), start_.end() - 1);
+  double shortest = kInf, longest = 0.0;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int v = t[k], a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+      Wedge w{a, b, (p[a] - p[v]).norm(), (p[b] - p[v]).norm(), (p[b] - p[a]).norm(), 0, 0, 0, 0};
+      // a above the edge b -> v, b above the edge v -> a (law of cosines).
+      std::tie(w.cx_a, w.cy_a) = unfold(w.vb, w.ab, w.va);
+      std::tie(w.cx_b, w.cy_b) = unfold(w.va, w.vb, w.ab);
+      wedges_[fill[v]++] = w;
+      if (w.va > 0.0) shortest = std::min(shortest, w.va), longest = std::max(longest, w.va);
+    }
+  dist_.assign(n, kInf);
+  done_.assign(n, 0);
+  // Buckets as wide as the shortest edge (at most 10^4 of them): with first-in first-out order
+  // inside a bucket this gave the same distances as an exactly ordered heap on the planar grid,
+  // the icosphere and the two scans (bucket_queue.h).
+  const double width = longest > 0.0 ? std::max(shortest, 1e-4 * longest) : 1.0;
+  queue_ = BucketQueue<int>(width, longest + width);
+}
+
+void GeodesicSolver::check_seeds(const std::vector<std::pair<int, double>>& seeds) const {
+  if (seeds.empty()) throw std::invalid_argument("GeodesicSolver: no source vertex");
+  for (const auto& [s, d0] : seeds) {
+    if (s < 0 || s >= vertex_count())
+      throw std::invalid_argument("GeodesicSolver: source vertex " + std::to_string(s) +
+                                  " out of range [0, " + std::to_string(vertex_count()) + ")");
+    if (!(d0 >= 0.0) || !std::isfinite(d0))
+      throw std::invalid_argument("GeodesicSolver: seed distance must be finite and >= 0");
+  }
+}
+
+void GeodesicSolver::march(const std::vector<std::pair<int, double>>& seeds, double max_distance) {
+  order_.clear();
+  queue_.clear();
+  auto improve = [&](int v, double d) {
+    if (dist_[v] == kInf) touched_.push_back(v);
+    dist_[v] = d;
+    queue_.push(d, v);
+  };
+  for (const auto& [s, d0] : seeds)
+    if (d0 < dist_[s]) improve(s, d0);
+  while (!queue_.empty()) {
+    // The first pop of a vertex carries its smallest key, i.e. its current distance; later
+    // (stale) entries find it done.
+    const int v = queue_.pop().second;
+    if (done_[v]) continue;
+    const double dv = dist_[v];
+    if (dv > max_distance) break;
+    done_[v] = 1;
+    order_.push_back(v);
+    // Update each unfinished corner from v alone or from v and the other finished corner.
+    for (int k = start_[v]; k < start_[v + 1]; ++k) {
+      const Wedge& w = wedges_[k];
+      const bool a_done = done_[w.a], b_done = done_[w.b];
+      if (!a_done) {
+        const double d = b_done ? planar_update(dist_[w.b], dv, w.vb, w.ab, w.va, w.cx_a, w.cy_a)
+                                : dv + w.va;
+        if (d < dist_[w.a]) improve(w.a, d);
+      }
+      if (!b_done) {
+        const double d = a_done ? planar_update(dv, dist_[w.a], w.va, w.vb, w.ab, w.cx_b, w.cy_b)
+                                : dv + w.vb;
+        if (d < dist_[w.b]) improve(w.b, d);
+      }
+    }
+  }
+}
+
+void GeodesicSolver::reset() {
+  for (int v : touched_) dist_[v] = kInf, done_[v] = 0;
+  touched_.clear();
 }
 
 std::vector<std::pair<int, double>> GeodesicSolver::reached(const std::vector<int>& sources,
@@ -130,60 +176,29 @@ std::vector<std::pair<int, double>> GeodesicSolver::reached(const std::vector<in
 std::vector<std::pair<int, double>> GeodesicSolver::reached_from_seeds(
     const std::vector<std::pair<int, double>>& seeds, const GeodesicOptions& options) {
   options.check();
-  if (seeds.empty()) throw std::invalid_argument("GeodesicSolver: no source vertex");
-  for (const auto& [s, d0] : seeds) {
-    if (s < 0 || s >= static_cast<int>(vertices_.size()))
-      throw std::invalid_argument("GeodesicSolver: source vertex " + std::to_string(s) +
-                                  " out of range [0, " + std::to_string(vertices_.size()) + ")");
-    if (!(d0 >= 0.0) || !std::isfinite(d0))
-      throw std::invalid_argument("GeodesicSolver: seed distance must be finite and >= 0");
-  }
-  std::vector<int> touched;
+  check_seeds(seeds);
+  march(seeds, options.max_distance);
   std::vector<std::pair<int, double>> out;
-  MinQueue queue;
-  for (const auto& [s, d0] : seeds) {
-    if (dist_[s] == kInf) touched.push_back(s);
-    if (d0 >= dist_[s]) continue;
-    dist_[s] = d0;
-    queue.push({d0, s});
-  }
-  while (!queue.empty()) {
-    const QueueItem top = queue.top();
-    queue.pop();
-    if (done_[top.v] || top.d > dist_[top.v]) continue;
-    if (top.d > options.max_distance) break;
-    done_[top.v] = 1;
-    out.emplace_back(top.v, top.d);
-    const int v = top.v;
-    for (int k = start_[v]; k < start_[v + 1]; ++k) {
-      const auto& t = triangles_[tris_[k]];
-      const auto& len = edge_lengths_[tris_[k]];  // len[j]: the edge opposite corner j
-      const int i = t[0] == v ? 0 : (t[1] == v ? 1 : 2), ia = (i + 1) % 3, ib = (i + 2) % 3;
-      const int a = t[ia], b = t[ib];
-      // Update each unfinished corner from v alone or from v and the other finished corner.
-      for (const auto& [target, other, l_vo, l_vt, l_ot] :
-           {std::tuple{a, b, len[ia], len[ib], len[i]}, std::tuple{b, a, len[ib], len[ia], len[i]}}) {
-        if (done_[target]) continue;
-        const double d = done_[other]
-                             ? triangle_update(l_vo, l_vt, l_ot, dist_[v], dist_[other])
-                             : dist_[v] + l_vt;
-        if (d < dist_[target]) {
-          if (dist_[target] == kInf) touched.push_back(target);
-          dist_[target] = d;
-          queue.push({d, target});
-        }
-      }
-    }
-  }
-  for (int v : touched) dist_[v] = kInf, done_[v] = 0;
+  out.reserve(order_.size());
+  for (int v : order_) out.emplace_back(v, dist_[v]);
+  reset();
   return out;
 }
 
 std::vector<double> GeodesicSolver::distances(const std::vector<int>& sources,
                                               const GeodesicOptions& options) {
-  std::vector<double> d(vertices_.size(), kInf);
+  std::vector<double> d(dist_.size(), kInf);
   for (const auto& [v, dv] : reached(sources, options)) d[v] = dv;
   return d;
+}
+
+void GeodesicSolver::distances_into(int source, float* row) {
+  if (!row) throw std::invalid_argument("GeodesicSolver::distances_into: null row");
+  check_seeds({{source, 0.0}});
+  march({{source, 0.0}}, kInf);
+  std::fill(row, row + dist_.size(), std::numeric_limits<float>::infinity());
+  for (int v : order_) row[v] = float(dist_[v]);
+  reset();
 }
 
 std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh) {
@@ -203,30 +218,71 @@ std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh) {
 
 namespace {
 
-std::vector<double> dijkstra(const TriMesh& mesh, const std::vector<std::vector<int>>& nb,
-                             const std::vector<int>& sources, double max_distance) {
-  std::vector<double> dist(mesh.vertices.size(), kInf);
-  MinQueue queue;
+// Edge graph in compressed rows: the arcs out of v are arcs[start[v] .. start[v+1]), each with
+// its Euclidean length in T; shortest / longest positive edge for the bucket queue.
+template <class T>
+struct EdgeGraph {
+  struct Arc {
+    int to;
+    T length;
+  };
+  std::vector<int> start;
+  std::vector<Arc> arcs;
+  double shortest = kInf, longest = 0.0;
+};
+
+template <class T>
+EdgeGraph<T> edge_graph(const TriMesh& mesh) {
+  const auto nb = vertex_neighbors(mesh);
+  EdgeGraph<T> g;
+  g.start.reserve(nb.size() + 1);
+  g.start.push_back(0);
+  for (size_t v = 0; v < nb.size(); ++v) {
+    for (int u : nb[v]) {
+      const double l = (mesh.vertices[u] - mesh.vertices[v]).norm();
+      g.arcs.push_back({u, T(l)});
+      if (l > 0.0) g.shortest = std::min(g.shortest, l), g.longest = std::max(g.longest, l);
+    }
+    g.start.push_back(int(g.arcs.size()));
+  }
+  return g;
+}
+
+// Buckets as wide as the shortest edge make Dial's queue exact. A mesh whose shortest edge is
+// below 2^-16 of its longest gets wider buckets; then a vertex can be improved after its scan and
+// is scanned again (the stale-entry test below), which keeps the result exact.
+template <class T>
+BucketQueue<int> dijkstra_queue(const EdgeGraph<T>& g) {
+  if (g.longest == 0.0) return BucketQueue<int>(1.0, 0.0);
+  const double width = std::max(g.shortest, g.longest / 65536.0);
+  return BucketQueue<int>(width, g.longest + width);
+}
+
+// Dijkstra over the edge graph with a bucket queue (label-correcting: an entry whose key is above
+// the vertex's current distance is stale and skipped, any other is scanned). `dist` (size n) and `queue` are the caller's scratch so
+// matrix rows reuse them. T is float for matrix rows, double for single-source calls.
+template <class T>
+void dijkstra(const EdgeGraph<T>& g, const std::vector<int>& sources, double max_distance,
+              std::vector<T>& dist, BucketQueue<int>& queue) {
+  std::fill(dist.begin(), dist.end(), std::numeric_limits<T>::infinity());
+  queue.clear();
   for (int s : sources) {
-    dist[s] = 0.0;
-    queue.push({0.0, s});
+    dist[s] = 0;
+    queue.push(0.0, s);
   }
   while (!queue.empty()) {
-    const QueueItem top = queue.top();
-    queue.pop();
-    if (top.d > dist[top.v]) continue;
-    if (top.d > max_distance) break;
-    for (int u : nb[top.v]) {
-      const double d = top.d + (mesh.vertices[u] - mesh.vertices[top.v]).norm();
-      if (d < dist[u]) {
+    const auto [key, v] = queue.pop();
+    const T dv = dist[v];
+    if (key > float(dv)) continue;
+    for (int k = g.start[v]; k < g.start[v + 1]; ++k) {
+      const int u = g.arcs[k].to;
+      const T d = dv + g.arcs[k].length;
+      if (d < dist[u] && d <= max_distance) {
         dist[u] = d;
-        queue.push({d, u});
+        queue.push(d, u);
       }
     }
   }
-  for (double& d : dist)
-    if (d > max_distance) d = kInf;
-  return dist;
 }
 
 void check_matrix_size(const TriMesh& mesh, int max_vertices, const char* what) {
@@ -243,23 +299,37 @@ void check_matrix_size(const TriMesh& mesh, int max_vertices, const char* what) 
 std::vector<double> edge_graph_distances(const TriMesh& mesh, const std::vector<int>& sources,
                                          const GeodesicOptions& options) {
   check_sources(mesh, sources, "edge_graph_distances", options);
-  return dijkstra(mesh, vertex_neighbors(mesh), sources, options.max_distance);
+  const auto g = edge_graph<double>(mesh);
+  auto queue = dijkstra_queue(g);
+  std::vector<double> dist(mesh.vertices.size());
+  dijkstra(g, sources, options.max_distance, dist, queue);
+  return dist;
 }
 
 DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int max_vertices) {
   check_matrix_size(mesh, max_vertices, "geodesic_matrix");
   const int n = static_cast<int>(mesh.vertices.size());
   DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
-  const auto nb = vertex_neighbors(mesh);
-  const GeodesicSolver prototype(mesh);  // copied per worker: its scratch arrays are per run
-  parallel_rows(
-      n, [&] { return prototype; },
-      [&](GeodesicSolver& solver, int s) {
-        const std::vector<double> row = method == GeodesicMethod::kEdgeGraph
-                                            ? dijkstra(mesh, nb, {s}, kInf)
-                                            : solver.distances({s});
-        std::copy(row.begin(), row.end(), m.values.begin() + static_cast<size_t>(s) * n);
-      });
+  auto row = [&](int s) { return m.values.data() + static_cast<size_t>(s) * n; };
+  if (method == GeodesicMethod::kEdgeGraph) {
+    const auto g = edge_graph<float>(mesh);
+    struct Scratch {
+      std::vector<float> dist;
+      BucketQueue<int> queue;
+    };
+    parallel_rows(
+        n, [&] { return Scratch{std::vector<float>(n), dijkstra_queue(g)}; },
+        [&](Scratch& w, int s) {
+          // Float sums: the relative rounding over a path of k edges is ~k x 6e-8.
+          dijkstra(g, {s}, kInf, w.dist, w.queue);
+          std::copy(w.dist.begin(), w.dist.end(), row(s));
+        });
+  } else {
+    const GeodesicSolver prototype(mesh);  // copied per worker: its scratch arrays are per run
+    parallel_rows(
+        n, [&] { return prototype; },
+        [&](GeodesicSolver& solver, int s) { solver.distances_into(s, row(s)); });
+  }
   return m;
 }
 
@@ -267,13 +337,16 @@ DistanceMatrix euclidean_matrix(const TriMesh& mesh, int max_vertices) {
   check_matrix_size(mesh, max_vertices, "euclidean_matrix");
   const int n = static_cast<int>(mesh.vertices.size());
   DistanceMatrix m{n, std::vector<float>(static_cast<size_t>(n) * n)};
-  std::vector<Eigen::Vector3f> p;
-  for (const auto& v : mesh.vertices) p.push_back(v.cast<float>());
+  // Coordinates as float arrays (SoA) so each row is one vectorised Eigen expression.
+  Eigen::ArrayXf x(n), y(n), z(n);
+  for (int i = 0; i < n; ++i)
+    x[i] = float(mesh.vertices[i].x()), y[i] = float(mesh.vertices[i].y()),
+    z[i] = float(mesh.vertices[i].z());
   parallel_rows(
       n, [] { return 0; },
       [&](int, int i) {
-        float* row = m.values.data() + static_cast<size_t>(i) * n;
-        for (int j = 0; j < n; ++j) row[j] = (p[i] - p[j]).norm();
+        Eigen::Map<Eigen::ArrayXf> row(m.values.data() + static_cast<size_t>(i) * n, n);
+        row = ((x - x[i]).square() + (y - y[i]).square() + (z - z[i]).square()).sqrt();
       });
   return m;
 }

@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "model/bucket_queue.h"
 #include "model/tri_mesh.h"
 
 namespace orthoface::model {
@@ -38,14 +39,35 @@ class GeodesicSolver {
   // seeded at its corners. Throws std::invalid_argument on a bad index or distance.
   std::vector<std::pair<int, double>> reached_from_seeds(
       const std::vector<std::pair<int, double>>& seeds, const GeodesicOptions& options = {});
+  // Distances from one source vertex written as floats into row[0, vertex count) (+inf where
+  // unreached), the row of a distance matrix without an intermediate vector. Throws
+  // std::invalid_argument on a source out of range or a null row.
+  void distances_into(int source, float* row);
+  int vertex_count() const { return static_cast<int>(dist_.size()); }
 
  private:
-  std::vector<Eigen::Vector3d> vertices_;
-  std::vector<std::array<int, 3>> triangles_;
-  std::vector<int> start_, tris_;     // vertex -> incident triangles
-  std::vector<std::array<double, 3>> edge_lengths_;  // per triangle: edge opposite each corner
+  // Vertex v's view of one incident triangle (v, a, b) in counter-clockwise corner order: the
+  // other corners, the three edge lengths, and each other corner unfolded into the plane of its
+  // opposite edge (a above b -> v, b above v -> a; origin at the edge's first end, the second on
+  // +x, cy = 0 marks a degenerate corner that only takes edge paths). Stored per incidence, in
+  // the order of v's incidence list, so a vertex's updates read consecutive memory.
+  struct Wedge {
+    int a, b;
+    double va, vb, ab;  // edge lengths
+    double cx_a, cy_a, cx_b, cy_b;
+  };
+  void check_seeds(const std::vector<std::pair<int, double>>& seeds) const;
+  // Marches from the seeds up to max_distance: accepted vertices in order_, their distances in
+  // dist_; reset() clears what the run touched.
+  void march(const std::vector<std::pair<int, double>>& seeds, double max_distance);
+  void reset();
+
+  std::vector<int> start_;       // vertex -> its wedges [start_[v], start_[v + 1])
+  std::vector<Wedge> wedges_;
   std::vector<double> dist_;          // scratch, +inf between runs
   std::vector<char> done_;
+  std::vector<int> touched_, order_;  // scratch, reused between runs
+  BucketQueue<int> queue_;
 };
 
 // Shortest path along mesh edges (seed 000 §VI.F: edge-weighted graph, Euclidean edge

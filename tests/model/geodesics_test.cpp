@@ -1,4 +1,5 @@
 #include "model/geodesics.h"
+#include "model/bucket_queue.h"
 
 #include <gtest/gtest.h>
 
@@ -137,6 +138,72 @@ TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
   }
   EXPECT_THROW(geodesic_matrix(m, GeodesicMethod::kEdgeGraph, 100), std::invalid_argument);
   EXPECT_THROW(euclidean_matrix(m, 100), std::invalid_argument);
+}
+
+TEST(GeodesicSolver, DistancesIntoMatchesDistances) {
+  const TriMesh m = icosphere(3, 20.0);
+  GeodesicSolver solver(m);
+  ASSERT_EQ(solver.vertex_count(), int(m.vertices.size()));
+  std::vector<float> row(m.vertices.size(), -1.0f);
+  solver.distances_into(11, row.data());
+  const auto d = solver.distances({11});
+  for (size_t i = 0; i < d.size(); ++i) EXPECT_EQ(row[i], float(d[i])) << i;
+  EXPECT_EQ(row[11], 0.0f);
+  EXPECT_THROW(solver.distances_into(-1, row.data()), std::invalid_argument);
+  EXPECT_THROW(solver.distances_into(int(m.vertices.size()), row.data()), std::invalid_argument);
+  EXPECT_THROW(solver.distances_into(0, nullptr), std::invalid_argument);
+  // Another component stays +inf.
+  TriMesh two = m;
+  const int n = int(two.vertices.size());
+  two.vertices.push_back({100, 0, 0}), two.vertices.push_back({101, 0, 0});
+  two.vertices.push_back({100, 1, 0});
+  two.triangles.push_back({n, n + 1, n + 2});
+  GeodesicSolver two_solver(two);
+  std::vector<float> row2(two.vertices.size());
+  two_solver.distances_into(0, row2.data());
+  EXPECT_TRUE(std::isinf(row2[n + 1]));
+  two_solver.distances_into(n, row2.data());
+  EXPECT_FLOAT_EQ(row2[n + 1], 1.0f);
+  EXPECT_TRUE(std::isinf(row2[0]));
+}
+
+TEST(BucketQueue, BucketsInKeyOrderFifoWithinAndOverflow) {
+  BucketQueue<int> q(1.0, 3.0);  // buckets [0,1), [1,2), ...; span 3
+  for (auto [key, v] : {std::pair{2.5, 1}, {0.7, 2}, {0.2, 3}, {1.5, 4}, {10.0, 5}, {2.2, 6}})
+    q.push(key, v);
+  std::vector<int> order;
+  while (!q.empty()) {
+    const auto [key, v] = q.pop();
+    order.push_back(v);
+    if (v == 2) q.push(0.1, 7);  // below the bucket being read: read later in that bucket
+  }
+  EXPECT_EQ(order, (std::vector<int>{2, 3, 7, 4, 1, 6, 5}));
+  q.clear();
+  EXPECT_TRUE(q.empty());
+  q.push(0.0, 8);
+  EXPECT_EQ(q.pop(), (std::pair<float, int>{0.0f, 8}));
+  EXPECT_THROW(q.pop(), std::out_of_range);
+  EXPECT_THROW(q.push(-1.0, 0), std::invalid_argument);
+  EXPECT_THROW(q.push(std::numeric_limits<double>::quiet_NaN(), 0), std::invalid_argument);
+  EXPECT_THROW(q.push(std::numeric_limits<double>::infinity(), 0), std::invalid_argument);
+  EXPECT_THROW(BucketQueue<int>().push(1.0, 0), std::invalid_argument);
+  EXPECT_THROW(BucketQueue<int>(0.0, 1.0), std::invalid_argument);
+  EXPECT_THROW(BucketQueue<int>(1.0, -1.0), std::invalid_argument);
+  EXPECT_THROW(BucketQueue<int>(1e-9, 1e9), std::invalid_argument);
+}
+
+TEST(EdgeGraphDistances, ExactOnAMeshWithATinyEdge) {
+  // One edge 10^-7 of the longest: wider buckets than the shortest edge, still exact.
+  TriMesh m = plane_grid(4, 1.0);
+  m.vertices[6].x() = m.vertices[5].x() + 1e-7;
+  const auto d = edge_graph_distances(m, {0});
+  const auto nb = vertex_neighbors(m);
+  EXPECT_EQ(d[0], 0.0);
+  for (size_t v = 1; v < m.vertices.size(); ++v) {
+    double best = std::numeric_limits<double>::infinity();  // Bellman: d[v] = min over neighbours
+    for (int u : nb[v]) best = std::min(best, d[u] + (m.vertices[u] - m.vertices[v]).norm());
+    EXPECT_NEAR(d[v], best, 1e-12) << v;
+  }
 }
 
 TEST(VertexNeighbors, IcosahedronHasFiveEach) {
