@@ -88,6 +88,15 @@ MouthFound mouth_near_rows(const FilterContext& ctx, double x0, double r_sub, do
   return m;
 }
 
+// Eye centres lie about this share of the head height under the nasion row (sim heads).
+constexpr double kEyeUnderNasion = 0.015;
+
+// Both eyes found, level with each other (roll under ~10 deg), apart like eyes, confident.
+bool eye_pair_ok(const EyeFound& a, const EyeFound& b, double W, double H, double min_conf) {
+  return a.ok && b.ok && std::abs(a.centre.y - b.centre.y) < 0.04 * H &&
+         b.centre.x - a.centre.x > 0.25 * W && std::min(a.confidence, b.confidence) >= min_conf;
+}
+
 }  // namespace
 
 cv::Point2d mirror_point(const CentreLine& line, cv::Point2d p) {
@@ -116,9 +125,13 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
   const double r_sub = row_of(rows, "subnasale", top + 0.65 * H);
   const double r_lu = row_of(rows, "lip_upper", top + 0.72 * H);
   const double r_ll = row_of(rows, "lip_lower", top + 0.76 * H);
-  const double r_fh = r_nasion - 0.15 * H;
+  // Face width and centre on the forehead; when that row is far narrower than the face at the
+  // nose tip (a profile row landing in the hair: views not level, a hair tuft), the nasion row.
+  double r_fh = r_nasion - 0.15 * H;
+  const auto width_at = [&](double r) { return boundary_x(fb.right, r) - boundary_x(fb.left, r); };
+  if (width_at(r_fh) < 0.7 * width_at(r_tip)) r_fh = r_nasion;
   const double x0 = (boundary_x(fb.left, r_fh) + boundary_x(fb.right, r_fh)) / 2;
-  const double W = boundary_x(fb.right, r_fh) - boundary_x(fb.left, r_fh);
+  const double W = width_at(r_fh);
   // The filters' windows: eyes and brows (x0 +- 0.62 W, from 0.14 H above the nasion row) down
   // to the mouth (0.04 H under the lower lip row) and the cheek skin beside the nose.
   const double box_top = std::min(r_nasion, r_lu) - 0.2 * H,
@@ -127,8 +140,25 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
                      cv::Point(int(x0 + 0.7 * W) + 2, int(box_bottom) + 2));
   const FilterContext ctx = make_filter_context(bgr, cv::Point2d(x0, r_tip + 0.06 * H), W, box);
   // Eyes: image-left eye is the subject's right eye.
-  const EyeFound er = find_eye(ctx, x0, r_nasion, W, H, true);
-  const EyeFound el = find_eye(ctx, x0, r_nasion, W, H, false);
+  EyeFound er = find_eye(ctx, x0, r_nasion, W, H, true);
+  EyeFound el = find_eye(ctx, x0, r_nasion, W, H, false);
+  // No eye pair at the profile's nasion row but one a little above or below it: the views are
+  // not level (a real front and side photo taken at different heights) or the profile's nasion
+  // is off. The nearest such pair is taken; the other profile rows stay (on real pairs the
+  // eye-to-nasion offset did not predict the nose and mouth rows).
+  if (!rows.empty() && !eye_pair_ok(er, el, W, H, 0.6)) {
+    for (double d : {0.04, -0.04, 0.08, -0.08, 0.12, -0.12, 0.16}) {
+      const EyeFound a = find_eye(ctx, x0, r_nasion + d * H, W, H, true);
+      const EyeFound b = find_eye(ctx, x0, r_nasion + d * H, W, H, false);
+      if (!eye_pair_ok(a, b, W, H, 0.8)) continue;
+      er = a, el = b;
+      const double off = 0.5 * (a.centre.y + b.centre.y) - (r_nasion + kEyeUnderNasion * H);
+      if (std::abs(off) > 0.03 * H)
+        out.warnings.push_back("front view: eyes found " + std::to_string(int(std::lround(off))) +
+                               " px off the side view's nasion row; views not level?");
+      break;
+    }
+  }
   const MouthFound mouth = mouth_near_rows(ctx, x0, r_sub, r_lu, r_ll, W, H);
   const NoseFound nose = find_nose(ctx, x0, r_tip, r_sub, W, H);
   std::vector<std::pair<cv::Point2d, cv::Point2d>> pairs;
