@@ -463,6 +463,23 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   return r;
 }
 
+capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left) {
+  if (side_faces_left) return rig;
+  gl::check_camera(rig.side, "photo rig: side camera");
+  // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
+  // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
+  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  capture::RigCalibration out = rig;
+  capture::CameraModel& c = out.side;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = flip * rig.side.cam_from_head.linear() * flip;
+  pose.translation() = flip * rig.side.cam_from_head.translation();
+  c.cam_from_head = pose;
+  c.cx = c.width - rig.side.cx;
+  if (c.distortion.size() >= 4) c.distortion[3] = -c.distortion[3];
+  return out;
+}
+
 SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,
                                 const cv::Mat& front, const cv::Mat& side,
                                 const capture::CameraModel& camera,

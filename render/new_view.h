@@ -86,6 +86,15 @@ class ViewSynthesizer {
   std::unique_ptr<Impl> impl_;
 };
 
+// The rig that took the two photos, for texturing. The model works in the head frame with the
+// side camera at +x (the face on the side image's left); when that camera stood on the
+// subject's right instead (vision's FaceObservation::side_faces_left == false), the model
+// mirrored the side observation but the side photo itself is not mirrored, so it must be
+// projected from where it was taken: `rig` with its side camera reflected through the x = 0
+// plane (pose, principal point and tangential distortion p2), i.e. standing at -x. With
+// side_faces_left == true, `rig` unchanged.
+capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left);
+
 // One-off synthesis with a temporary context.
 SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,
                                 const cv::Mat& front, const cv::Mat& side,

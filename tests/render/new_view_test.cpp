@@ -401,6 +401,36 @@ TEST(NewView, BadInputsThrow) {
   EXPECT_NO_THROW(synth.render(s.rig.front));  // still usable
 }
 
+// A side photo taken from the subject's right (-x): the model mirrors its observation into the
+// +x convention, photo_rig() puts the camera back where it stood.
+TEST(NewView, PhotoRigReflectsTheSideCameraToMinusX) {
+  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 2.0);
+  EXPECT_EQ(photo_rig(rig, true).side.cam_from_head.matrix(), rig.side.cam_from_head.matrix());
+  const capture::RigCalibration right = photo_rig(rig, false);
+  EXPECT_NEAR((capture::view_direction(right.side) - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12);
+  const CameraModel at_minus_x = view(rig.front, -90);
+  for (const Eigen::Vector3d p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
+    const Eigen::Vector2d mirrored = capture::project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
+    const Eigen::Vector2d seen = capture::project(right.side, p);
+    EXPECT_NEAR(seen.x(), rig.side.width - mirrored.x(), 1e-9);  // columns mirrored
+    EXPECT_NEAR(seen.y(), mirrored.y(), 1e-9);
+    EXPECT_NEAR((seen - capture::project(at_minus_x, p)).norm(), 0, 1e-9);
+  }
+  capture::RigCalibration bad = rig;
+  bad.side.width = 0;
+  EXPECT_THROW(photo_rig(bad, false), std::invalid_argument);
+}
+
+TEST(NewView, SidePhotoFromTheRightTexturesTheRightSide) {
+  capture::RigCalibration taken = capture::ideal_rig(640, 480, 2.0);
+  taken.side = photo_rig(taken, false).side;
+  const Scene s = make_scene(uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 48, 96, 512), taken);
+  const CameraModel cam = view(s.rig.front, -45);
+  const RenderResult truth = render_once(s.textured, cam);
+  const RenderResult r = synthesize_view(s.bare, s.rig, s.front, s.side, cam).view;
+  EXPECT_GT(psnr(truth.image, r.image, truth.mask), 36.0);
+}
+
 }  // namespace
 }  // namespace orthoface::render
 
