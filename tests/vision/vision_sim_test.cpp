@@ -48,6 +48,26 @@ TEST(Observe, SimSubjectsMeetAccuracyTargets) {
   EXPECT_LE(orthoface::testing::median(pooled), 2.0);
 }
 
+TEST(Observe, EyesFoundWhenTheViewsAreNotLevel) {
+  // The front camera stood higher than the side camera: the whole front image moves 40 px down
+  // (0.13 of the head height), off the profile's rows. The eyes are still found, within 3 px.
+  const sim::Capture& cap = capture(0);
+  const int dy = -60;
+  cv::Mat front;
+  const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 0, 0, 1, dy);
+  cv::warpAffine(cap.front, front, shift, cap.front.size(),
+                 cv::INTER_NEAREST, cv::BORDER_REPLICATE);
+  const ov::FaceObservation obs = ov::observe(front, cap.side);
+  for (const char* name : {"eye_left_center", "eye_right_center"}) {
+    const auto it = obs.front.features.find(name);
+    ASSERT_NE(it, obs.front.features.end()) << name;
+    EXPECT_FALSE(it->second.mirrored) << name;
+    const auto& t = cap.landmarks.at(name).front_px;
+    EXPECT_NEAR(it->second.px.x, t.x(), 3.0) << name;
+    EXPECT_NEAR(it->second.px.y, t.y() + dy, 3.0) << name;
+  }
+}
+
 TEST(Observe, MirroredSideImageIsDetected) {
   const sim::Capture& cap = capture(0);
   cv::Mat flipped;
