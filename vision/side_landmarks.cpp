@@ -157,12 +157,22 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
     sp.features["lip_lower"] = make(c[near_row(0.62)], conf * 0.3, "profile-position-model");
     sp.warnings.push_back("side view: lips do not stand out on the profile; placed by position");
   } else {
-    const int lu = mins.front();
-    sp.features["lip_upper"] = make(c[lu], conf, "profile-extremum");
+    int lu = mins.front();
+    int run_top = lu, run_bottom = lu;  // the flat stretch around the first lip extremum
+    while (run_top > tip && c[run_top - 1].x <= c[lu].x + 0.5) --run_top;
+    while (run_bottom < pog && c[run_bottom + 1].x <= c[lu].x + 0.5) ++run_bottom;
+    // Closed lips projecting equally: one long flat stretch and no notch between them; the
+    // upper lip is its top end, the lower lip its bottom end.
+    const bool flat_lips = mins.size() < 2 && c[run_bottom].y - c[run_top].y > 0.03 * H;
+    if (flat_lips) lu = run_top;
+    sp.features["lip_upper"] = flat_lips ? make(c[lu], conf * 0.7, "profile-flat-ends")
+                                         : make(c[lu], conf, "profile-extremum");
     const int sub = deepest_behind_chord(c, tip, lu, &depth);
     sp.features["subnasale"] = make(c[sub], conf * std::min(1.0, depth / 1.5), "profile-concavity");
     if (mins.size() >= 2) {
       sp.features["lip_lower"] = make(c[mins[1]], conf, "profile-extremum");
+    } else if (flat_lips) {
+      sp.features["lip_lower"] = make(c[run_bottom], conf * 0.7, "profile-flat-ends");
     } else {
       const int mid = (lu + pog) / 2;  // lower lip not standing out: placed by position
       sp.features["lip_lower"] = make(c[argmin_x(c, lu + (pog - lu) / 4, mid)], conf * 0.4,
