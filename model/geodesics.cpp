@@ -294,6 +294,21 @@ void check_matrix_size(const TriMesh& mesh, int max_vertices, const char* what) 
                                 " (use single-source distances instead)");
 }
 
+// m(i, j) = m(j, i) = the smaller of the two, in 64 x 64 tiles so the transposed reads stay in
+// cache.
+void symmetrize_min(DistanceMatrix& m) {
+  constexpr int kTile = 64;
+  float* v = m.values.data();
+  const size_t n = static_cast<size_t>(m.n);
+  for (size_t bi = 0; bi < n; bi += kTile)
+    for (size_t bj = bi; bj < n; bj += kTile)
+      for (size_t i = bi; i < std::min(bi + kTile, n); ++i)
+        for (size_t j = std::max(bj, i + 1); j < std::min(bj + kTile, n); ++j) {
+          const float d = std::min(v[i * n + j], v[j * n + i]);
+          v[i * n + j] = v[j * n + i] = d;
+        }
+}
+
 }  // namespace
 
 std::vector<double> edge_graph_distances(const TriMesh& mesh, const std::vector<int>& sources,
@@ -329,6 +344,7 @@ DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int m
     parallel_rows(
         n, [&] { return prototype; },
         [&](GeodesicSolver& solver, int s) { solver.distances_into(s, row(s)); });
+    symmetrize_min(m);
   }
   return m;
 }

@@ -82,9 +82,13 @@ std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh);
 enum class GeodesicMethod { kFastMarching, kEdgeGraph };
 
 // Row-major n x n float matrix of pairwise distances computed one source row at a time
-// (n single-source runs, never Floyd-Warshall), rows split over the hardware threads. Memory
-// is 4 n^2 bytes: throws std::invalid_argument when n > max_vertices (default 16384, 1 GiB) or
-// the mesh is bad.
+// (n single-source runs, never Floyd-Warshall), rows split over the hardware threads. Fast
+// marching's d(i, j) from i and d(j, i) from j differ slightly; the matrix holds the smaller of
+// the two (symmetric): against CGAL's exact distances on a 1750-vertex sim head (10 sources x
+// all vertices, analysis_bench --accuracy) that cut the mean relative error from 0.45 % to
+// 0.37 % and the largest from 9.1 % to 4.9 % (their mean: 0.41 % and 5.1 %). Memory is 4 n^2
+// bytes: throws std::invalid_argument when n > max_vertices (default 16384, 1 GiB) or the mesh
+// is bad.
 struct DistanceMatrix {
   int n = 0;
   std::vector<float> values;
