@@ -96,6 +96,21 @@ int under_chin(const std::vector<cv::Point2d>& c, int tip, double H) {
   return -1;
 }
 
+// Subnasale: where the columella (running back under the nose) turns down into the upper lip.
+// From the most posterior point between the tip and the upper lip, upward to the first point
+// whose tangent runs back more than down (45 deg); the deepest point behind the tip-to-lip chord
+// lies lower, in the lip's own concavity.
+int subnasale_corner(const std::vector<cv::Point2d>& c, int tip, int lu) {
+  int deep = tip;
+  for (int i = tip; i <= lu; ++i)
+    if (c[i].x > c[deep].x) deep = i;
+  for (int i = deep; i > tip + 1; --i) {
+    const cv::Point2d d = c[i + 1] - c[i - 1];
+    if (d.x > std::abs(d.y)) return i;
+  }
+  return deep;
+}
+
 }  // namespace
 
 bool reads_as_face_profile(const std::vector<cv::Point2d>& c, double H) {
@@ -167,8 +182,9 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
     if (flat_lips) lu = run_top;
     sp.features["lip_upper"] = flat_lips ? make(c[lu], conf * 0.7, "profile-flat-ends")
                                          : make(c[lu], conf, "profile-extremum");
-    const int sub = deepest_behind_chord(c, tip, lu, &depth);
-    sp.features["subnasale"] = make(c[sub], conf * std::min(1.0, depth / 1.5), "profile-concavity");
+    deepest_behind_chord(c, tip, lu, &depth);
+    const int sub = subnasale_corner(c, tip, lu);
+    sp.features["subnasale"] = make(c[sub], conf * std::min(1.0, depth / 1.5), "profile-corner");
     if (mins.size() >= 2) {
       sp.features["lip_lower"] = make(c[mins[1]], conf, "profile-extremum");
     } else if (flat_lips) {
