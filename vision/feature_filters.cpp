@@ -228,17 +228,20 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
   const bool found = val[0] < c.skin[0] * 0.6 && val[1] < c.skin[0] * 0.6 && d0 > 0.01 * W && d1 > 0.01 * W;
   const double d = found ? 0.5 * (d0 + d1) : 0.06 * W;
   const double row = found ? 0.5 * (py[0] + py[1]) - 0.25 * (r_sub - r_tip) : r_tip + 0.68 * (r_sub - r_tip);
-  // Wing edge: strongest horizontal grey change outward of the nostril along the alar row.
+  // Wing edge: strongest horizontal grey change outward of the nostril along the alar row,
+  // 0.4 d to 1.5 d beyond that side's own nostril (a turned head shifts the two nostrils unevenly
+  // from x0, and the fixed range from x0 then misses the far wing).
   double ax[2];
   for (int side = 0; side < 2; ++side) {
     const double s = side == 0 ? -1 : 1;
-    ax[side] = x0 + s * 1.9 * d;
+    const double base = found ? pos[side] : x0 + s * d;
+    ax[side] = base + s * 0.9 * d;
     const int y = std::clamp(int(std::lround(row)), c.roi.y + 1, c.roi.br().y - 2);
     double best = 0;
-    for (double t = 1.4 * d; t <= 2.5 * d; t += 0.5) {
-      const int x = std::clamp(int(std::lround(x0 + s * t)), c.roi.x + 1, c.roi.br().x - 2);
+    for (double t = 0.4 * d; t <= 1.5 * d; t += 0.5) {
+      const int x = std::clamp(int(std::lround(base + s * t)), c.roi.x + 1, c.roi.br().x - 2);
       const double gx = std::abs(double(c.grey.at<uchar>(y, x + 1)) - c.grey.at<uchar>(y, x - 1));
-      if (gx > best && gx > 6) best = gx, ax[side] = x0 + s * t;
+      if (gx > best && gx > 6) best = gx, ax[side] = base + s * t;
     }
   }
   n.ok = true;  // without nostrils the wing edges (or the position model) still place them
