@@ -4,6 +4,8 @@
 #include <map>
 #include <optional>
 
+#include <Eigen/Dense>
+
 #include "model/feature_detail.h"
 #include "model/mpeg4_names.h"
 
@@ -127,6 +129,48 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
   else r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
 }
 
+// The eye's centre (MPEG-4 3.5 / 3.6, the pupil): the side plane only cuts the eye socket, so
+// the point is refined over the surface around it, as the vertex standing furthest forward of
+// the quadratic surface fitted to the ring 0.05-0.09 D around it (the eyeball's bulge inside its
+// socket, open or closed lids; the quadratic takes out the face's own curvature). Candidates lie
+// on the `side`, 0.08-0.32 D from the mid-plane, with heights in (s_lo, s_hi) and depth above
+// f_min. Returns -1 when no ring holds 12 vertices (a coarse mesh) or nothing stands out.
+int eye_bulge(const TriMesh& mesh, const LocalFrame& fr, double side, double s_lo, double s_hi,
+              double f_min) {
+  const double D = fr.ear_distance, r_in = 0.05 * D, r_out = 0.09 * D;
+  struct Local { int v; double l, s, f; };
+  std::vector<Local> near;  // the window grown by the ring's radius
+  for (size_t v = 0; v < mesh.vertices.size(); ++v) {
+    const Eigen::Vector3d q = mesh.vertices[v] - fr.origin;
+    const double l = side * q.dot(fr.left), s = q.dot(fr.up), f = q.dot(fr.forward);
+    if (l > 0.08 * D - r_out && l < 0.32 * D + r_out && s > s_lo - r_out && s < s_hi + r_out &&
+        f > f_min - r_out)
+      near.push_back({int(v), l, s, f});
+  }
+  int best = -1;
+  double best_score = 0.0;
+  for (const Local& c : near) {
+    if (c.l < 0.08 * D || c.l > 0.32 * D || c.s <= s_lo || c.s >= s_hi || c.f < f_min) continue;
+    Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
+    int n = 0;
+    for (const Local& o : near) {
+      const double dl = (o.l - c.l) / r_out, ds = (o.s - c.s) / r_out, d = std::hypot(dl, ds);
+      if (d < r_in / r_out || d > 1.0) continue;
+      Eigen::Matrix<double, 6, 1> row;
+      row << 1.0, dl, ds, dl * dl, dl * ds, ds * ds;
+      ata += row * row.transpose();
+      atb += row * o.f;
+      ++n;
+    }
+    if (n < 12) continue;
+    const Eigen::Matrix<double, 6, 1> coef = ata.ldlt().solve(atb);
+    const double score = c.f - coef[0];  // height over the ring's quadratic at the centre
+    if (std::isfinite(score) && score > best_score) best_score = score, best = c.v;
+  }
+  return best;
+}
+
 void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions& o,
                  FeatureReport& r, double side, const std::string& brow, const std::string& eye,
                  const std::string& cheek) {
@@ -154,16 +198,25 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
   std::optional<int> e;
   for (int i : troughs)
     if (prof[i].s < prof[*b].s && prof[i].s > s_nose && (!e || prof[i].f < prof[*e].f)) e = i;
-  if (!e) {
-    r.missing.push_back(eye + ", " + cheek + ": no trough below the brow on the side plane");
+  const double s_brow = prof[*b].s;
+  const int bulge = eye_bulge(mesh, fr, side, s_nose + 0.35 * (s_brow - s_nose),
+                              s_brow - 0.15 * (s_brow - s_nose), prof[*b].f - 0.15 * D);
+  if (bulge >= 0) {
+    add_point(mesh, r, eye, bulge);
+  } else if (e) {
+    add_point(mesh, r, eye, prof[*e]);
+  } else {
+    r.missing.push_back(eye + ", " + cheek + ": no eye bulge or trough below the brow on the side plane");
     return;
   }
-  add_point(mesh, r, eye, prof[*e]);
+  // The cheek: the side profile's most forward point below the eye's socket.
+  const double s_eye = (r.points.back().position - fr.origin).dot(fr.up);
+  const double f_socket = e ? prof[*e].f : (r.points.back().position - fr.origin).dot(fr.forward);
   std::optional<int> c;
   for (size_t i = 0; i < prof.size(); ++i)
-    if (prof[i].s < prof[*e].s && prof[i].s > s_nose - 0.2 * D && (!c || prof[i].f > prof[*c].f))
+    if (prof[i].s < s_eye && prof[i].s > s_nose - 0.2 * D && (!c || prof[i].f > prof[*c].f))
       c = int(i);
-  if (c && prof[*c].f - prof[*e].f > 0.005 * D) add_point(mesh, r, cheek, prof[*c]);
+  if (c && prof[*c].f - f_socket > 0.005 * D) add_point(mesh, r, cheek, prof[*c]);
   else r.missing.push_back(cheek + ": no peak below the eye on the side plane");
 }
 
