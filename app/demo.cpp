@@ -124,7 +124,11 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
   so.depth = false;  // the views are scored and written as images
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
-    render::ViewSynthesizer synth(s.model->mesh, s.model->rig, s.model->front, s.model->side);
+    const vision::FaceObservation& obs = s.model->observation;
+    render::ViewSynthesizer synth(s.model->mesh, render::photo_rig(s.model->rig, obs.side_faces_left),
+                                  s.model->front, s.model->side);
+    if (obs.side.boundary.size() >= 2)
+      synth.set_photo_masks({}, render::profile_mask(obs.side, obs.side_faces_left));
     for (size_t i = 0; i < std::size(kViewYawsDeg); ++i) {
       const capture::CameraModel camera =
           sim::true_view_camera(options, kViewYawsDeg[i] * M_PI / 180, 0);

@@ -19,6 +19,7 @@
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
 #include "render/textured_export.h"
+#include "vision/observation_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -82,8 +83,9 @@ void write_image(const cv::Mat& image, const fs::path& path) {
 
 struct Folder {
   model::TriMesh mesh;
-  capture::RigCalibration rig;
+  capture::RigCalibration rig;  // where the photos were taken (render::photo_rig)
   cv::Mat front, side;
+  cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
 };
 
 Folder read_folder(const fs::path& dir) {
@@ -103,6 +105,14 @@ Folder read_folder(const fs::path& dir) {
   }
   if (fs::exists(dir / "rig.yaml")) f.rig = capture::read_rig((dir / "rig.yaml").string());
   else f.rig = capture::ideal_rig(f.front.cols, f.front.rows, 1.6);
+  // A side photo taken from the subject's right was mirrored for the model, not for texturing.
+  if (fs::exists(dir / "observation.json")) {
+    const vision::FaceObservation obs = vision::read_observation((dir / "observation.json").string());
+    f.rig = render::photo_rig(f.rig, obs.side_faces_left);
+    if (obs.side.boundary.size() >= 2 && obs.side.width == f.side.cols &&
+        obs.side.height == f.side.rows)
+      f.side_mask = render::profile_mask(obs.side, obs.side_faces_left);
+  }
   return f;
 }
 
@@ -208,6 +218,7 @@ int run_render(int argc, char** argv) {
   if (!view_wanted) return 0;
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   render::ViewSynthesizer synth(f.mesh, f.rig, f.front, f.side);
+  synth.set_photo_masks({}, f.side_mask);
   if (!turntable) {
     const auto r = synth.render(view_camera(f.rig.front, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);

@@ -36,26 +36,33 @@ struct SourceGl {
   std::array<double, 2> zrange{0, 0};        // near, far of zmap
   cv::Mat depth;                             // z_cam (mm), CV_32F, +inf where empty
   cv::Mat raw;                               // the photo as set (buffer reused)
+  cv::Mat mask;                              // subject mask (alpha), eroded; empty = all
   cv::Rect footprint;                        // photo pixels the mesh can take colour from
 };
 
 constexpr int kLutSize = 33;  // equalisation lookup grid per axis (trilinear in between)
 
-// Uploads 8-bit BGR `bgr` into the RGBA8 texture `tex` with linear filtering; image row 0 is
+// Uploads 8-bit BGR `bgr` with `mask` (CV_8U, empty = 255) as alpha into the RGBA8 texture `tex`
+// with linear filtering; image row 0 is
 // t = 0. Allocates only on the first call or a size change (else glTexSubImage2D). Images larger
 // than GL_MAX_TEXTURE_SIZE are downscaled (the shader samples in normalised coordinates).
-void upload_bgr(const cv::Mat& bgr, GLuint& tex, cv::Size& allocated) {
-  cv::Mat image = gl::fit_texture_limit(bgr);
+void upload_bgr(const cv::Mat& bgr, const cv::Mat& mask, GLuint& tex, cv::Size& allocated) {
+  cv::Mat bgra(bgr.size(), CV_8UC4);
+  const cv::Mat alpha = mask.empty() ? cv::Mat(bgr.size(), CV_8U, cv::Scalar(255)) : mask;
+  const cv::Mat parts[] = {bgr, alpha};
+  const int from_to[] = {0, 0, 1, 1, 2, 2, 3, 3};
+  cv::mixChannels(parts, 2, &bgra, 1, from_to, 4);
+  cv::Mat image = gl::fit_texture_limit(bgra);
   if (!image.isContinuous()) image = image.clone();
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   if (!tex) glGenTextures(1, &tex);
   glBindTexture(GL_TEXTURE_2D, tex);
   if (allocated == image.size()) {
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.cols, image.rows, GL_BGR, GL_UNSIGNED_BYTE,
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.cols, image.rows, GL_BGRA, GL_UNSIGNED_BYTE,
                     image.data);
     return;
   }
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.cols, image.rows, 0, GL_BGR, GL_UNSIGNED_BYTE,
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.cols, image.rows, 0, GL_BGRA, GL_UNSIGNED_BYTE,
                image.data);
   gl::linear_clamp_parameters();
   allocated = image.size();
@@ -269,7 +276,7 @@ void ViewSynthesizer::Impl::upload_seen() {
 void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& side) {
   front.copyTo(src[0].raw);
   side.copyTo(src[1].raw);
-  for (SourceGl& s : src) upload_bgr(s.raw, s.photo, s.photo_size);
+  for (SourceGl& s : src) upload_bgr(s.raw, s.mask, s.photo, s.photo_size);
   has_photos = true;
 }
 
@@ -389,6 +396,28 @@ void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, Colo
   impl_->equalize_photos();
 }
 
+void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side) {
+  const cv::Mat masks[2] = {front, side};
+  for (int i = 0; i < 2; ++i) {
+    const capture::CameraModel& c = impl_->cam(i);
+    if (!masks[i].empty() && (masks[i].type() != CV_8UC1 || masks[i].cols != c.width ||
+                              masks[i].rows != c.height))
+      throw std::invalid_argument(std::string("new view: ") + (i ? "side" : "front") +
+                                  " photo mask must be CV_8U of the camera's size " +
+                                  std::to_string(c.width) + "x" + std::to_string(c.height));
+  }
+  for (int i = 0; i < 2; ++i) {
+    if (masks[i].empty()) {
+      impl_->src[i].mask.release();
+      continue;
+    }
+    cv::erode(masks[i] != 0, impl_->src[i].mask, cv::Mat());  // 3x3: one pixel
+  }
+  impl_->context.make_current();
+  impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
+  impl_->equalize_photos();
+}
+
 void ViewSynthesizer::update_colour_match() {
   impl_->context.make_current();
   impl_->match_colours();
@@ -461,6 +490,36 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glReadPixels(0, 0, camera.width, camera.height, GL_RGB, GL_UNSIGNED_BYTE, r.weights.data);
   }
   return r;
+}
+
+cv::Mat profile_mask(const vision::ViewObservation& side, bool faces_left) {
+  if (side.width <= 0 || side.height <= 0)
+    throw std::invalid_argument("profile mask: the side view has no image size");
+  if (side.boundary.size() < 2)
+    throw std::invalid_argument("profile mask: the side view has no profile (" +
+                                std::to_string(side.boundary.size()) + " points)");
+  // Per row the most frontal profile crossing (a hooked nose crosses a row more than once).
+  std::vector<double> front_x(side.height, std::numeric_limits<double>::quiet_NaN());
+  for (size_t k = 0; k + 1 < side.boundary.size(); ++k) {
+    const cv::Point2d a = side.boundary[k], b = side.boundary[k + 1];
+    const int r0 = std::max(0, int(std::ceil(std::min(a.y, b.y) - 0.5)));
+    const int r1 = std::min(side.height - 1, int(std::floor(std::max(a.y, b.y) - 0.5)));
+    for (int r = r0; r <= r1; ++r) {
+      const double y = r + 0.5, t = b.y == a.y ? 0.0 : (y - a.y) / (b.y - a.y);
+      const double x = a.x + t * (b.x - a.x);
+      double& f = front_x[r];
+      if (std::isnan(f) || (faces_left ? x < f : x > f)) f = x;
+    }
+  }
+  cv::Mat mask(side.height, side.width, CV_8U, cv::Scalar(255));
+  for (int r = 0; r < side.height; ++r) {
+    if (std::isnan(front_x[r])) continue;
+    const int edge = std::clamp(int(std::lround(front_x[r])), 0, side.width);  // first column
+    // behind (faces_left) or one past the last column in front of the profile
+    if (faces_left) mask.row(r).colRange(0, edge).setTo(0);
+    else mask.row(r).colRange(edge, side.width).setTo(0);
+  }
+  return mask;
 }
 
 capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left) {

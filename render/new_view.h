@@ -8,6 +8,7 @@
 #include "capture/camera_model.h"
 #include "model/tri_mesh.h"
 #include "render/renderer.h"
+#include "vision/observation.h"
 
 namespace orthoface::render {
 
@@ -68,6 +69,12 @@ class ViewSynthesizer {
   // photos always compute one).
   void set_photos(const cv::Mat& front, const cv::Mat& side,
                   ColourUpdate colour = ColourUpdate::Keep);
+  // Where each photo shows the subject: CV_8U of the photo's size, non-zero = subject; an empty
+  // Mat = the whole photo (the default). A surface point that projects outside a photo's mask
+  // never takes colour from it (where the mesh overshoots the photographed silhouette it would
+  // take the background); the mask is eroded by one pixel so bilinear samples stay inside.
+  // Kept across set_photos. Throws std::invalid_argument on a wrong size or type.
+  void set_photo_masks(const cv::Mat& front, const cv::Mat& side);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).
@@ -94,6 +101,14 @@ class ViewSynthesizer {
 // plane (pose, principal point and tangential distortion p2), i.e. standing at -x. With
 // side_faces_left == true, `rig` unchanged.
 capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left);
+
+// The side photo's subject mask from vision's profile (the side ViewObservation's boundary,
+// forehead to throat, in the image as given): on each row the profile spans, the pixels from the
+// profile backwards (toward the image right when the face points to the image left,
+// `faces_left`, else toward the left); rows above and below it are all subject (not known
+// there). CV_8U 0 / 255 of the view's size. Throws std::invalid_argument when the view has no
+// size or fewer than 2 profile points.
+cv::Mat profile_mask(const vision::ViewObservation& side, bool faces_left);
 
 // One-off synthesis with a temporary context.
 SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,

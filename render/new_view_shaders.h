@@ -129,8 +129,10 @@ void main() {
 #else
   vec2 uv1 = intr[1].zw + intr[1].xy * xy1;
 #endif
-  float a0 = availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
-  float a1 = availability(1, PERSPECTIVE1 == 1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
+  // Alpha = the photo's subject mask (ViewSynthesizer::set_photo_masks; 1 without one).
+  vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);
+  float a0 = c0.a * availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
+  float a1 = c1.a * availability(1, PERSPECTIVE1 == 1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
   // Share of the front photo where both see the point (seed 004 §6).
 #ifdef WEIGHTED
   float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
@@ -141,8 +143,8 @@ void main() {
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);
   float unseen = (1.0 - a0) * (1.0 - a1);
-  vec3 c0 = texture(photo0, uv0 / size[0]).rgb, c1 = texture(photo1, uv1 / size[1]).rgb;
-  color = vec4(w0 * c0 + w1 * c1 + unseen * fill, 1.0);
+
+  color = vec4(w0 * c0.rgb + w1 * c1.rgb + unseen * fill, 1.0);
   weights = vec4(w0, w1, unseen, 1.0);
 })";
 
@@ -161,14 +163,15 @@ uniform sampler2D lut;
 uniform float lut_size;
 out vec4 color;
 void main() {
-  vec3 c = texelFetch(photo, ivec2(gl_FragCoord.xy), 0).rgb;
+  vec4 texel = texelFetch(photo, ivec2(gl_FragCoord.xy), 0);
+  vec3 c = texel.rgb;
   float n = lut_size, blue = c.b * (n - 1.0);
   float b0 = min(floor(blue), n - 2.0);
   vec2 rg = c.rg * (n - 1.0) + 0.5;  // texel position inside a slice
   vec2 to_uv = 1.0 / vec2(n * n, n);
   vec3 s0 = texture(lut, (vec2(b0 * n, 0.0) + rg) * to_uv).rgb;
   vec3 s1 = texture(lut, (vec2((b0 + 1.0) * n, 0.0) + rg) * to_uv).rgb;
-  color = vec4(mix(s0, s1, blue - b0), 1.0);
+  color = vec4(mix(s0, s1, blue - b0), texel.a);  // the subject mask passes through
 })";
 
 }  // namespace orthoface::render::shaders

@@ -431,6 +431,54 @@ TEST(NewView, SidePhotoFromTheRightTexturesTheRightSide) {
   EXPECT_GT(psnr(truth.image, r.image, truth.mask), 36.0);
 }
 
+// A photo pixel outside its subject mask never gives colour: with an empty side mask the side
+// photo's weight is zero everywhere, the front photo and the fill take over.
+TEST(NewView, PhotoMasksKeepColourFromOutsideTheSubject) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.source_weights = true;
+  const CameraModel cam = view(s.rig.front, 70);
+  cv::Mat side_weight;
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_GT(cv::countNonZero(side_weight), 10000);
+  synth.set_photo_masks({}, cv::Mat::zeros(s.side.size(), CV_8U));
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_EQ(cv::countNonZero(side_weight), 0);
+  synth.set_photos(s.front, s.side);  // the masks stay
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_EQ(cv::countNonZero(side_weight), 0);
+  synth.set_photo_masks({}, {});  // back to the whole photo
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_GT(cv::countNonZero(side_weight), 10000);
+  EXPECT_THROW(synth.set_photo_masks(cv::Mat::zeros(10, 10, CV_8U), {}), std::invalid_argument);
+  EXPECT_THROW(synth.set_photo_masks({}, cv::Mat::zeros(s.side.size(), CV_8UC3)),
+               std::invalid_argument);
+}
+
+TEST(NewView, ProfileMaskKeepsThePixelsBehindTheProfile) {
+  vision::ViewObservation side;
+  side.width = 40;
+  side.height = 30;
+  side.boundary = {{20, 10}, {10, 15}, {20, 20}};  // a nose pointing left at row 15
+  const cv::Mat left = profile_mask(side, true);
+  EXPECT_EQ(left.at<uchar>(5, 0), 255);    // above the profile: not known, kept
+  EXPECT_EQ(left.at<uchar>(15, 9), 0);     // in front of the nose tip
+  EXPECT_EQ(left.at<uchar>(15, 11), 255);  // behind it
+  EXPECT_EQ(left.at<uchar>(11, 16), 0);    // in front of the upper slope (x = 17 at y = 11.5)
+  EXPECT_EQ(left.at<uchar>(11, 17), 255);
+  const cv::Mat right = profile_mask(side, false);
+  EXPECT_EQ(right.at<uchar>(15, 9), 255);
+  EXPECT_EQ(right.at<uchar>(15, 11), 0);
+  EXPECT_EQ(right.at<uchar>(25, 39), 255);  // below the profile
+  vision::ViewObservation empty = side;
+  empty.boundary.resize(1);
+  EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
+  empty = side;
+  empty.width = 0;
+  EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orthoface::render
 
