@@ -133,7 +133,7 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
 // the point is refined over the surface around it, as the vertex standing furthest forward of
 // the quadratic surface fitted to the ring 0.05-0.09 D around it (the eyeball's bulge inside its
 // socket, open or closed lids; the quadratic takes out the face's own curvature). Candidates lie
-// on the `side`, 0.08-0.32 D from the mid-plane, with heights in (s_lo, s_hi) and depth above
+// on the `side`, 0.13-0.3 D from the mid-plane (pupils are about 0.2 D out), with heights in (s_lo, s_hi) and depth above
 // f_min. Returns -1 when no ring holds 12 vertices (a coarse mesh) or nothing stands out.
 int eye_bulge(const TriMesh& mesh, const LocalFrame& fr, double side, double s_lo, double s_hi,
               double f_min) {
@@ -143,14 +143,14 @@ int eye_bulge(const TriMesh& mesh, const LocalFrame& fr, double side, double s_l
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     const Eigen::Vector3d q = mesh.vertices[v] - fr.origin;
     const double l = side * q.dot(fr.left), s = q.dot(fr.up), f = q.dot(fr.forward);
-    if (l > 0.08 * D - r_out && l < 0.32 * D + r_out && s > s_lo - r_out && s < s_hi + r_out &&
+    if (l > 0.13 * D - r_out && l < 0.3 * D + r_out && s > s_lo - r_out && s < s_hi + r_out &&
         f > f_min - r_out)
       near.push_back({int(v), l, s, f});
   }
   int best = -1;
   double best_score = 0.0;
   for (const Local& c : near) {
-    if (c.l < 0.08 * D || c.l > 0.32 * D || c.s <= s_lo || c.s >= s_hi || c.f < f_min) continue;
+    if (c.l < 0.13 * D || c.l > 0.3 * D || c.s <= s_lo || c.s >= s_hi || c.f < f_min) continue;
     Eigen::Matrix<double, 6, 6> ata = Eigen::Matrix<double, 6, 6>::Zero();
     Eigen::Matrix<double, 6, 1> atb = Eigen::Matrix<double, 6, 1>::Zero();
     int n = 0;
@@ -203,6 +203,20 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
                               s_brow - 0.15 * (s_brow - s_nose), prof[*b].f - 0.15 * D);
   if (bulge >= 0) {
     add_point(mesh, r, eye, bulge);
+    // With the pupil known, the brow's uppermost point (4.3 / 4.4) is the first peak above it
+    // on the vertical section through the pupil (the side plane runs outside the brow's middle),
+    // unless that peak is above the side plane's brow (a forehead or hairline).
+    const Eigen::Vector3d q = mesh.vertices[bulge] - fr.origin;
+    const auto through = plane_profile(mesh, fr, q.dot(fr.left), o.plane_band * D);
+    const auto crest = next_extremum(through, profile_extrema(through, true, 0.003 * D),
+                                     q.dot(fr.up), false, 0.2 * D);
+    if (crest && through[*crest].s < s_brow + 0.03 * D) {  // not the forehead over the brow
+      const FoundPoint pupil = r.points.back();
+      r.points.pop_back();
+      for (auto& p : r.points)
+        if (p.name == brow) p.vertex = through[*crest].vertex, p.position = through[*crest].point;
+      r.points.push_back(pupil);
+    }
   } else if (e) {
     add_point(mesh, r, eye, prof[*e]);
   } else {

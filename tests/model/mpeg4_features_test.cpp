@@ -47,13 +47,16 @@ TEST(Mpeg4Features, SimHeadKeyVerticesAndMidlinePoints) {
 }
 
 // The pupils (3.5 / 3.6) are the eyeball's bulge inside the socket, not the side plane's trough
-// (the plane runs 0.25 D from the mid-plane, about 8 mm outside the eye's centre).
-TEST(Mpeg4Features, SimEyeCentresOnTheEyeballs) {
+// (the plane runs 0.25 D from the mid-plane, about 8 mm outside the eye's centre); the brows'
+// uppermost points (4.3 / 4.4) are the crest above each pupil.
+TEST(Mpeg4Features, SimEyeCentresOnTheEyeballsAndBrowsAboveThem) {
   for (int seed : {0, 5, 13}) {
     const sim::Head h = head16k(seed);
     const FeatureReport r = mpeg4_features(h.mesh);
     for (const auto& [fp, lm] : {std::pair<const char*, const char*>{"3.5", "eye_left_center"},
-                                 {"3.6", "eye_right_center"}}) {
+                                 {"3.6", "eye_right_center"},
+                                 {"4.3", "brow_left_center"},
+                                 {"4.4", "brow_right_center"}}) {
       const FoundPoint* p = find(r, fp);
       ASSERT_NE(p, nullptr) << "seed " << seed << " " << fp;
       EXPECT_LT((p->position - h.landmarks.at(lm)).norm(), 5.0) << "seed " << seed << " " << fp;
