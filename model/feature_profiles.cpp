@@ -93,6 +93,33 @@ std::optional<int> next_extremum(const std::vector<ProfileSample>& prof,
 // the nose and lips (~0.5 % of D), below the shallowest real trough (the lips', ~1 %).
 constexpr double kMidlineProminence = 0.005;
 
+void refine_subnasale(const TriMesh& mesh, const LocalFrame& fr,
+                      const std::vector<ProfileSample>& prof, FeatureReport& r) {
+  FoundPoint *sub = nullptr, *lip = nullptr;
+  for (auto& p : r.points) {
+    if (p.name == "9.15") sub = &p;
+    if (p.name == "8.1") lip = &p;
+  }
+  if (!sub || !lip || !r.nose_tip) return;
+  const Eigen::Vector3d t3 = mesh.vertices[*r.nose_tip] - fr.origin, l3 = lip->position - fr.origin;
+  const Eigen::Vector2d tip(t3.dot(fr.up), t3.dot(fr.forward)), upper(l3.dot(fr.up), l3.dot(fr.forward));
+  const Eigen::Vector2d chord = upper - tip;
+  if (chord.norm() < 1e-9) return;
+  Eigen::Vector2d inward(-chord.y(), chord.x());  // (s, f): toward smaller f
+  if (inward.y() > 0) inward = -inward;
+  inward.normalize();
+  std::optional<int> best;
+  double depth = 0.0;
+  for (size_t i = 0; i < prof.size(); ++i) {
+    if (prof[i].s >= tip.x() || prof[i].s <= upper.x()) continue;
+    const double d = (Eigen::Vector2d(prof[i].s, prof[i].f) - tip).dot(inward);
+    if (d > depth) depth = d, best = int(i);
+  }
+  if (!best) return;
+  sub->vertex = prof[*best].vertex;
+  sub->position = prof[*best].point;
+}
+
 void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions& o,
                     FeatureReport& r) {
   const double D = fr.ear_distance;
@@ -116,6 +143,10 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
     add_point(mesh, r, st.name, prof[*i], st.helper);
     s = prof[*i].s;
   }
+  // 9.15 again, now that the upper lip (8.1) is known: the profile point deepest below the chord
+  // from the nose tip to the upper lip (the subnasale of profile analysis); the depth trough
+  // alone slides down the lip when the face leans back in the frame.
+  refine_subnasale(mesh, fr, prof, r);
   // 2.1 bottom of the chin: the chin point furthest along (forward - up), below the chin boss.
   std::optional<int> bottom;
   for (size_t i = 0; i < prof.size(); ++i)

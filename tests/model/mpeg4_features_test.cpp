@@ -38,7 +38,8 @@ TEST(Mpeg4Features, SimHeadKeyVerticesAndMidlinePoints) {
   EXPECT_GT(r.axes.col(1).dot(Eigen::Vector3d::UnitY()), 0.95);
   EXPECT_LT(std::abs(r.symmetry_plane.head<3>().dot(Eigen::Vector3d::UnitZ())), 0.1);
   const std::map<std::string, std::string> truth = {
-      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"4.3", "brow_left_center"}};
+      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"4.3", "brow_left_center"},
+      {"9.15", "subnasale"}};
   for (const auto& [fp, lm] : truth) {
     const FoundPoint* p = find(r, fp);
     ASSERT_NE(p, nullptr) << fp;
@@ -97,7 +98,8 @@ TEST(Mpeg4Features, LeePerrySmithScanMatchesPickedLandmarks) {
   EXPECT_GT(h.mesh.vertices[*r.ear_left].x(), 50.0);  // subject's left is +x in the head frame
   EXPECT_LT((h.mesh.vertices[*r.ear_left] - h.landmarks.at("ear_left_tragus")).norm(), 40.0);
   const std::map<std::string, std::string> truth = {
-      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"nasion", "nose_bridge"}};
+      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"nasion", "nose_bridge"},
+      {"9.15", "subnasale"}, {"4.3", "brow_left_center"}};
   for (const auto& [fp, lm] : truth) {
     const FoundPoint* p = find(r, fp);
     ASSERT_NE(p, nullptr) << fp;
