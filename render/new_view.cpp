@@ -184,7 +184,9 @@ struct ViewSynthesizer::Impl {
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
-// with comparison (2x2 PCF), plus its z_cam copy on the CPU. Back faces culled.
+// with comparison at the nearest texel (one fetch: 2x2 PCF cost about 1 ms CPU per 640x480
+// frame on llvmpipe and changed no PSNR on the sim heads or the scan by 0.1 dB), plus its z_cam
+// copy on the CPU. Back faces culled.
 void ViewSynthesizer::Impl::render_source_depth(int i) {
   const capture::CameraModel& c = cam(i);
   SourceGl& s = src[i];
@@ -193,6 +195,8 @@ void ViewSynthesizer::Impl::render_source_depth(int i) {
   glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
                GL_FLOAT, nullptr);
   gl::linear_clamp_parameters();
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
   GLuint fbo = 0;

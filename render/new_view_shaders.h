@@ -101,7 +101,7 @@ float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cos
   float px_mm = (perspective ? z : 1.0) / intr[i].x;
   float tol = tol_mm + 1.5 * px_mm / max(cosine, 0.2);
   float ref = (z - tol - zrange[i].x) / (zrange[i].y - zrange[i].x);
-  a *= texture(zmap, vec3(und / size[i], ref));  // 2x2 PCF: soft over one source pixel
+  a *= texture(zmap, vec3(und / size[i], ref));  // nearest texel, hard compare (see render_source_depth)
 #else
   a *= vertex_seen;
 #endif
