@@ -6,8 +6,8 @@
 // read, with no comparisons, about twice as fast for fast marching here as a binary or radix
 // heap. Buckets come out in key order, entries within one bucket in push order: exact for
 // Dijkstra when the width is at most the shortest edge (nothing in a bucket can improve another
-// entry of it); for fast marching with that width the distances equalled an exactly ordered
-// heap's on a planar grid and an icosphere (tests/model/geodesics_test.cpp).
+// entry of it); for fast marching the order within a bucket is approximate, see the width
+// chosen in geodesics.cpp.
 #include <cstddef>
 #include <limits>
 #include <stdexcept>

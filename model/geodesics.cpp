@@ -106,10 +106,11 @@ GeodesicSolver::GeodesicSolver(const TriMesh& mesh) {
     }
   dist_.assign(n, kInf);
   done_.assign(n, 0);
-  // Buckets as wide as the shortest edge (at most 10^4 of them): with first-in first-out order
-  // inside a bucket this gave the same distances as an exactly ordered heap on the planar grid,
-  // the icosphere and the two scans (bucket_queue.h).
-  const double width = longest > 0.0 ? std::max(shortest, 1e-4 * longest) : 1.0;
+  // Buckets half the shortest edge wide (at most 2 x 10^4 of them): with first-in first-out
+  // order inside a bucket this gave the same accuracy as an exactly ordered heap on the planar
+  // grid, the icosphere and the two scans, and the same mpeg4_features points on both scans (a
+  // full edge wide, Nefertiti's borderline mid-plane troughs 2.2 / 8.2 flipped).
+  const double width = longest > 0.0 ? std::max(0.5 * shortest, 1e-4 * longest) : 1.0;
   queue_ = BucketQueue<int>(width, longest + width);
 }
 
