@@ -68,6 +68,23 @@ struct Profile {
   }
 };
 
+// Upper lip (labrale superius): the first peak of z (the highest over +-2 mm) going up from the
+// mouth line, below the subnasale. A plain maximum over that range took its top, the foot of
+// the columella, on heads whose upper lip is retruded under a forward-sloping philtrum; that
+// maximum stays the fallback when no peak is found.
+size_t upper_lip(const Profile& p, double y_mouth, double y_top) {
+  const double step = p.y[0] - p.y[1];
+  const int win = std::max(1, int(std::lround(2.0 / step)));
+  for (int k = int(p.y.size()) - 1 - win; k >= win; --k) {  // from the bottom up
+    if (p.y[k] < y_mouth) continue;
+    if (p.y[k] > y_top) break;
+    bool peak = true;
+    for (int j = k - win; j <= k + win && peak; ++j) peak = p.z[j] <= p.z[k];
+    if (peak) return size_t(k);
+  }
+  return p.best(y_mouth, y_top, [](double, double z) { return z; });
+}
+
 // Pogonion: the most projecting point of the chin prominence, i.e. the lowest local maximum
 // of z between the lower lip and the menton that stands 0.3 mm over the labiomental fold above
 // it. A retruded chin without such a bump has its most anterior chin point where the profile
@@ -111,17 +128,29 @@ std::map<std::string, double> profile_heights(const HeadSurface& s, double theta
   std::map<std::string, double> h;
   const size_t tip = p.best(a.y_sub, a.y_nasion, zmax);
   const size_t bridge = p.best(p.y[tip] + 8, a.y_nasion + 9, [](double, double z) { return -z; });
-  const size_t lu = p.best(a.y_mouth, a.y_sub - 1, zmax);
+  const size_t lu = upper_lip(p, a.y_mouth, a.y_sub - 1);
   const size_t ll = p.best(a.y_mouth - 14, a.y_mouth, zmax);
   const size_t chin = pogonion(p, a.y_menton, p.y[ll]);
-  // Subnasale: the deepest point below the chord from the nose tip to the upper lip.
-  const Eigen::Vector2d T(p.z[tip], p.y[tip]), L(p.z[lu], p.y[lu]);
-  Eigen::Vector2d nrm(-(L - T).y(), (L - T).x());
-  if (nrm.x() > 0) nrm = -nrm;  // toward the inside of the face (smaller z)
-  nrm.normalize();
-  const size_t sub = p.best(p.y[lu], p.y[tip], [&](double y, double z) {
-    return (Eigen::Vector2d(z, y) - T).dot(nrm);
-  });
+  // Subnasale: where the columella (the nose's underside, running back at over 2 mm per mm of
+  // height) turns down into the upper lip: going down from the tip, the first point after the
+  // columella whose slope |dz/dy| is under 1 (slopes over +-0.5 mm). The deepest point
+  // behind the tip-to-lip chord slid down a forward-sloping philtrum when the lip is low; it
+  // stays the fallback.
+  const int half = std::max(1, int(std::lround(0.5 / (p.y[0] - p.y[1]))));
+  size_t sub = lu;
+  bool columella = false;
+  for (size_t k = tip + half; k + half < lu; ++k) {
+    const double slope = std::abs((p.z[k - half] - p.z[k + half]) / (p.y[k - half] - p.y[k + half]));
+    if (slope > 2) columella = true;
+    else if (columella) { sub = k; break; }
+  }
+  if (sub == lu) {
+    const Eigen::Vector2d T(p.z[tip], p.y[tip]), L(p.z[lu], p.y[lu]);
+    Eigen::Vector2d nrm(-(L - T).y(), (L - T).x());
+    if (nrm.x() > 0) nrm = -nrm;  // toward the inside of the face (smaller z)
+    nrm.normalize();
+    sub = p.best(p.y[lu], p.y[tip], [&](double y, double z) { return (Eigen::Vector2d(z, y) - T).dot(nrm); });
+  }
   // Chin bottom (gnathion): the chin point projecting furthest 45 degrees below forward;
   // steeper directions would pick the throat, which leans forward under the chin, and so would
   // a search reaching far below the menton (it starts 2 mm under it).
