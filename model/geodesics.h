@@ -25,8 +25,9 @@ struct GeodesicOptions {
 std::vector<double> geodesic_distances(const TriMesh& mesh, const std::vector<int>& sources,
                                        const GeodesicOptions& options = {});
 
-// Reusable fast-marching solver for many runs on one mesh (the mesh is copied once; each run
-// only touches the vertices it reaches). Same method and errors as geodesic_distances.
+// Reusable fast-marching solver for many runs on one mesh (per-triangle data built once; each
+// run only touches the vertices it reaches; front kept in a bucket queue, bucket_queue.h).
+// Same method and errors as geodesic_distances.
 class GeodesicSolver {
  public:
   explicit GeodesicSolver(const TriMesh& mesh);  // throws std::invalid_argument (check_mesh)
@@ -46,7 +47,7 @@ class GeodesicSolver {
   int vertex_count() const { return static_cast<int>(dist_.size()); }
 
  private:
-  // Vertex v's view of one incident triangle (v, a, b) in counter-clockwise corner order: the
+  // Vertex v's view of one incident triangle (v, a, b) in the triangle's cyclic corner order: the
   // other corners, the three edge lengths, and each other corner unfolded into the plane of its
   // opposite edge (a above b -> v, b above v -> a; origin at the edge's first end, the second on
   // +x, cy = 0 marks a degenerate corner that only takes edge paths). Stored per incidence, in
@@ -85,8 +86,8 @@ enum class GeodesicMethod { kFastMarching, kEdgeGraph };
 // (n single-source runs, never Floyd-Warshall), rows split over the hardware threads. Fast
 // marching's d(i, j) from i and d(j, i) from j differ slightly; the matrix holds the smaller of
 // the two (symmetric): against CGAL's exact distances on a 1750-vertex sim head (10 sources x
-// all vertices, analysis_bench --accuracy) that cut the mean relative error from 0.45 % to
-// 0.37 % and the largest from 9.1 % to 4.9 % (their mean: 0.41 % and 5.1 %). Memory is 4 n^2
+// all vertices, analysis_bench --accuracy) that cut the mean relative error from 0.44 % to
+// 0.36 % and the largest from 7.3 % to 4.9 % (their mean: 0.40 % and 5.0 %). Memory is 4 n^2
 // bytes: throws std::invalid_argument when n > max_vertices (default 16384, 1 GiB) or the mesh
 // is bad.
 struct DistanceMatrix {
