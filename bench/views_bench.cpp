@@ -9,6 +9,7 @@
 //                                        reconstruct from 33 + 53, synthesize the 45 deg view,
 //                                        SSIM against Img_43 after aligning on the eyes; one
 //                                        picture per person in OUTDIR (keep it outside the repo)
+//   --no-photo-masks (last argument)     texture without the side photo's profile mask
 // Every subject goes through the demo's pipeline (app::reconstruct: vision -> stereo -> NNWA
 // with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
 // bound: only texturing error left), the adapted mesh, the Procrustes fit of the base mesh to
@@ -50,6 +51,10 @@ namespace {
 using namespace orthoface;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
+
+// The side photo's subject mask from vision's profile (ViewSynthesizer::set_photo_masks); off
+// with --no-photo-masks to measure what it changes.
+bool g_photo_masks = true;
 
 constexpr double kYawsDeg[] = {15, 30, 45, 60, 75};
 constexpr int kNumYaws = 5;
@@ -115,7 +120,8 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   }
   const auto m = meshes(head.mesh, r);
   render::ViewSynthesizer synth(m[0], r.rig, r.front, r.side);
-  synth.set_photo_masks({}, render::profile_mask(r.observation.side, r.observation.side_faces_left));
+  if (g_photo_masks)
+    synth.set_photo_masks({}, render::profile_mask(r.observation.side, r.observation.side_faces_left));
   std::vector<render::Tile> tiles;
   for (int y = 0; y < kNumYaws; ++y) {
     const double yaw = kYawsDeg[y] * M_PI / 180;
@@ -438,8 +444,9 @@ int run_frmdb(const std::string& dir, const std::string& out_dir) {
       if (real_eyes.size() != 2) throw std::runtime_error("no eye pair found in Img_43");
       r["img43_eyes_px"] = {{real_eyes[0].x, real_eyes[0].y}, {real_eyes[1].x, real_eyes[1].y}};
       render::ViewSynthesizer synth(m[0], rig, rec.front, rec.side);
-      synth.set_photo_masks({}, render::profile_mask(rec.observation.side,
-                                                     rec.observation.side_faces_left));
+      if (g_photo_masks)
+        synth.set_photo_masks({}, render::profile_mask(rec.observation.side,
+                                                       rec.observation.side_faces_left));
       std::vector<render::Tile> tiles{{real, p + ": real Img_43"}};
       cv::Mat mask;  // face of the adapted mesh in the real photo's frame (same for all three)
       double ssim[3] = {0, 0, 0};
@@ -530,11 +537,12 @@ int run_frmdb(const std::string& dir, const std::string& out_dir) {
 
 int main(int argc, char** argv) {
   try {
+    if (argc > 1 && std::string(argv[argc - 1]) == "--no-photo-masks") g_photo_masks = false, --argc;
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "sim")
       return run_sim(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
     if (mode == "frmdb" && argc > 3) return run_frmdb(argv[2], argv[3]);
-    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] | frmdb DIR OUTDIR\n";
+    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] | frmdb DIR OUTDIR  [--no-photo-masks]\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
