@@ -165,6 +165,43 @@ EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double
   return e;
 }
 
+EyeFound find_side_eye(const FilterContext& c, double xp, double row, double H, double behind) {
+  EyeFound e;
+  const double x0 = xp + behind * 0.015 * H, x1 = xp + behind * 0.13 * H;
+  const cv::Rect win = clip_to(c, std::min(x0, x1), row - 0.035 * H, std::max(x0, x1), row + 0.035 * H);
+  if (win.width < 6 || win.height < 4) return e;
+  cv::Mat m = non_skin(c, win, frame_skin(c, win), 12.0);
+  cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
+  cv::Mat labels, stats, centroids;
+  const int n = cv::connectedComponentsWithStats(m, labels, stats, centroids, 8, CV_32S);
+  // The eye: the largest component not touching the window's top or bottom (brow, hair).
+  int best = -1;
+  for (int i = 1; i < n; ++i) {
+    const int top = stats.at<int>(i, cv::CC_STAT_TOP), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+    if (top == 0 || top + h >= win.height || stats.at<int>(i, cv::CC_STAT_WIDTH) < 0.02 * H) continue;
+    if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+  }
+  if (best < 0) return e;
+  const int left = stats.at<int>(best, cv::CC_STAT_LEFT), w = stats.at<int>(best, cv::CC_STAT_WIDTH);
+  const double cy = win.y + centroids.at<double>(best, 1);
+  const double front = behind > 0 ? win.x + left - 0.5 : win.x + left + w - 0.5;
+  const double back = behind > 0 ? win.x + left + w - 0.5 : win.x + left - 0.5;
+  // The iris: the darkest pixel of the blurred grey over the component.
+  cv::Mat g;
+  cv::GaussianBlur(c.grey(win), g, cv::Size(), std::max(1.0, 0.006 * H));
+  double lo = 1e9;
+  cv::Point at(-1, -1);
+  for (int r = 0; r < win.height; ++r)
+    for (int x = 0; x < win.width; ++x)
+      if (labels.at<int>(r, x) == best && g.at<uchar>(r, x) < lo) lo = g.at<uchar>(r, x), at = {x, r};
+  e.ok = true;
+  e.centre = {win.x + at.x, cy};
+  e.corner_image_left = {front, cy};
+  e.corner_image_right = {back, cy};
+  e.confidence = std::clamp(double(stats.at<int>(best, cv::CC_STAT_AREA)) / (0.002 * H * H), 0.2, 0.8);
+  return e;
+}
+
 MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_ll, double W, double H) {
   MouthFound mo;
   const cv::Rect win = clip_to(c, x0 - 0.32 * W, r_lu - 0.04 * H, x0 + 0.32 * W, r_ll + 0.04 * H);

@@ -27,6 +27,15 @@ struct EyeFound {
 EyeFound find_eye(const FilterContext& ctx, double x0, double r_nasion, double W, double H,
                   bool image_left);
 
+// Eye of the visible side in a profile photo: the non-skin component (sclera, iris, lashes)
+// just behind the profile at the front view's eye row (the shared row of seed 004 eq. 1, searched
+// +-0.035 H), its centre at the iris (darkest point inside it), its outer corner at the component's
+// back end. x_profile: the profile's column at that row; behind: +1 when the face looks toward
+// the image left, -1 otherwise; H: head height in pixels. corner_image_left / right hold the
+// component's front / back ends whichever way the face looks.
+EyeFound find_side_eye(const FilterContext& ctx, double x_profile, double row, double H,
+                       double behind);
+
 struct MouthFound {
   bool ok = false;
   cv::Point2d corner_image_left, corner_image_right;

@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vision/contour_chain.h"
+#include "vision/feature_filters.h"
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/haar_init.h"
@@ -52,7 +53,10 @@ SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
   if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
     warn.push_back("side view: facing direction unsure; give --side-camera left|right");
+  // Mirrored copies in fresh buffers (flipping into a header of `side` would mirror `side`
+  // itself in place, and observe() reads it again afterwards).
   cv::Mat im = side, pr = prob, mk = mask;
+  if (!r.faces_left) im = cv::Mat(), pr = cv::Mat(), mk = cv::Mat();
   if (!r.faces_left) cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
   SideProfileOptions so;
   so.min_head_height_px = min_head_height_px;
@@ -99,6 +103,39 @@ void add_front_tragi(FaceObservation& obs) {
       }
     }
   }
+}
+
+// The eye of the side camera's side seen in the profile gives the depth of the eye centre and
+// outer corner (stereo mirrors it to the hidden eye), which the front view alone cannot.
+void add_side_eye(const cv::Mat& side, const SideResult& s, double row_scale, FaceObservation& obs) {
+  const std::string name = s.faces_left ? "left" : "right";
+  const auto eye = obs.front.features.find("eye_" + name + "_center");
+  const double H = s.profile.head_height_px;
+  if (eye == obs.front.features.end() || eye->second.mirrored || s.profile.curve.empty() || H <= 0)
+    return;
+  const double row = (eye->second.px.y - 0.5) / row_scale;  // index coordinates, side rows
+  const auto at = std::min_element(s.profile.curve.begin(), s.profile.curve.end(),
+                                   [&](cv::Point2d a, cv::Point2d b) {
+                                     return std::abs(a.y - row) < std::abs(b.y - row);
+                                   });
+  if (std::abs(at->y - row) > 2.0) return;
+  const double behind = s.faces_left ? 1.0 : -1.0;
+  const cv::Rect box = cv::Rect(cv::Point(int(at->x + behind * 0.2 * H), int(row - 0.1 * H)),
+                                cv::Point(int(at->x), int(row + 0.1 * H)));
+  const FilterContext ctx = make_filter_context(side, *at, H, box);
+  const EyeFound e = find_side_eye(ctx, at->x, row, H, behind);
+  if (!e.ok) return;
+  // Only the columns are measured here; the rows stay the front's (the shared row).
+  Feature2d c;
+  c.px = out_px({e.centre.x, row});
+  c.confidence = e.confidence;
+  c.method = "side-eye-iris";
+  obs.side.features["eye_" + name + "_center"] = c;
+  const auto outer = obs.front.features.find("eye_" + name + "_outer");
+  c.px = {out_px(e.corner_image_right).x,
+          outer != obs.front.features.end() ? (outer->second.px.y - 0.5) / row_scale + 0.5 : c.px.y};
+  c.method = "side-eye-component";
+  obs.side.features["eye_" + name + "_outer"] = c;
 }
 
 void check_sizes(const cv::Mat& f, const cv::Mat& s, double ratio) {
@@ -163,6 +200,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   add_side_ears(s, ears);
   for (auto& [n, f] : ears) f.px = out_px(f.px), obs.side.features[n] = f;
   add_front_tragi(obs);
+  add_side_eye(side, s, row_scale, obs);
   return obs;
 }
 

@@ -68,12 +68,37 @@ TEST(Observe, EyesFoundWhenTheViewsAreNotLevel) {
   }
 }
 
+// The near eye in the profile gives the eye centre's and outer corner's depth (side column) at
+// the front view's row; on a mirrored side image it is the subject's other eye.
+TEST(Observe, NearEyeFoundInTheProfile) {
+  for (int seed : {0, 1}) {
+    const sim::Capture& cap = capture(seed);
+    const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
+    for (const char* name : {"eye_left_center", "eye_left_outer"}) {
+      const auto it = obs.side.features.find(name);
+      ASSERT_NE(it, obs.side.features.end()) << "seed " << seed << " " << name;
+      const auto& t = cap.landmarks.at(name).side_px;
+      EXPECT_NEAR(it->second.px.x, t.x(), 3.0) << "seed " << seed << " " << name;
+      EXPECT_NEAR(it->second.px.y, obs.front.features.at(name).px.y, 1e-9) << name;
+    }
+    EXPECT_EQ(obs.side.features.count("eye_right_center"), 0u);
+  }
+  cv::Mat flipped;
+  cv::flip(capture(0).side, flipped, 1);
+  const ov::FaceObservation m = ov::observe(capture(0).front, flipped);
+  const auto it = m.side.features.find("eye_right_center");
+  ASSERT_NE(it, m.side.features.end());
+  EXPECT_NEAR(it->second.px.x, flipped.cols - capture(0).landmarks.at("eye_left_center").side_px.x(), 3.0);
+}
+
 TEST(Observe, MirroredSideImageIsDetected) {
   const sim::Capture& cap = capture(0);
   cv::Mat flipped;
   cv::flip(cap.side, flipped, 1);
+  const cv::Mat given = flipped.clone();
   const ov::FaceObservation obs = ov::observe(cap.front, flipped);
   EXPECT_FALSE(obs.side_faces_left);
+  EXPECT_EQ(cv::norm(flipped, given, cv::NORM_INF), 0.0);  // the caller's photo is left alone
   const auto& tip = obs.side.features.at("nose_tip").px;
   const auto& truth = cap.landmarks.at("nose_tip").side_px;
   EXPECT_NEAR(tip.x, cap.side.cols - truth.x(), 3.0);

@@ -10,6 +10,7 @@
 #include "vision/contour_chain.h"
 #include "vision/curve_features.h"
 #include "vision/edges.h"
+#include "vision/feature_filters.h"
 #include "vision/front_features.h"
 #include "vision/image_prep.h"
 #include "vision/observation_io.h"
@@ -140,6 +141,27 @@ TEST(SideProfile, FaceProfileShapeAndFacing) {
   ov::SideProfileOptions o;
   o.min_head_height_px = -1;
   EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
+// A profile facing image-left with a dark eye blob 30 px behind its edge at row 100: the eye's
+// front / back ends and iris come out at the blob; plain skin or a window off the image gives none.
+TEST(SideEye, FindsTheBlobBehindTheProfileAndNothingOnSkin) {
+  cv::Mat img(200, 300, CV_8UC3, cv::Scalar(200, 200, 200));
+  const cv::Scalar skin(90, 130, 190);  // BGR
+  cv::rectangle(img, cv::Rect(100, 0, 200, 200), skin, cv::FILLED);
+  const double H = 400, xp = 100;
+  const ov::FilterContext plain = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
+  EXPECT_FALSE(ov::find_side_eye(plain, xp, 100, H, +1).ok);
+  cv::ellipse(img, cv::Point(140, 100), cv::Size(10, 4), 0, 0, 360, cv::Scalar(240, 240, 240), cv::FILLED);
+  cv::circle(img, cv::Point(134, 100), 3, cv::Scalar(60, 30, 20), cv::FILLED);
+  const ov::FilterContext c = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
+  const ov::EyeFound e = ov::find_side_eye(c, xp, 100, H, +1);
+  ASSERT_TRUE(e.ok);
+  EXPECT_NEAR(e.corner_image_left.x, 130, 2.0);   // front end
+  EXPECT_NEAR(e.corner_image_right.x, 150, 2.0);  // back end: the outer corner
+  EXPECT_NEAR(e.centre.x, 134, 2.0);              // the iris
+  EXPECT_FALSE(ov::find_side_eye(c, 1000, 100, H, +1).ok);  // window off the image
+  EXPECT_FALSE(ov::find_side_eye(c, xp, 100, 0, +1).ok);    // no head height
 }
 
 TEST(ContourChain, HeadWidthIgnoresTheShoulders) {
