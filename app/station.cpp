@@ -150,7 +150,10 @@ void Station::finish_fit() {
   try {
     Reconstruction r = fit_.get();
     if (!synth_) {
-      synth_ = std::make_unique<render::ViewSynthesizer>(r.mesh, r.rig, r.front, r.side);
+      // Texture from where the photos were taken: a side camera on the subject's right stands
+      // at -x for texturing (the model mirrored its observation, not its photos).
+      synth_ = std::make_unique<render::ViewSynthesizer>(
+          r.mesh, render::photo_rig(r.rig, r.observation.side_faces_left), r.front, r.side);
       synth_rig_ = r.rig;
     } else {
       synth_->set_mesh(r.mesh);
