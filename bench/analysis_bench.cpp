@@ -152,6 +152,26 @@ nlohmann::json sphere_accuracy(int levels) {
           {"dijkstra_max_rel_error", e.max_rel}};
 }
 
+#ifdef ORTHOFACE_HAVE_CGAL
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using SM = CGAL::Surface_mesh<K::Point_3>;
+using SP = CGAL::Surface_mesh_shortest_path<CGAL::Surface_mesh_shortest_path_traits<K, SM>>;
+
+// `m` as a CGAL surface mesh; `accepted` = m with only the faces CGAL took (it refuses faces
+// that would make the mesh non-manifold).
+struct CgalMesh {
+  SM sm;
+  std::vector<SM::Vertex_index> vh;
+  model::TriMesh accepted;
+  explicit CgalMesh(const model::TriMesh& m) {
+    for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
+    accepted.vertices = m.vertices;
+    for (const auto& t : m.triangles)
+      if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) != SM::null_face()) accepted.triangles.push_back(t);
+  }
+};
+#endif
+
 nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   nlohmann::json j{{"mesh", name}};
   model::TriMesh m;
@@ -165,16 +185,8 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   for (size_t v = 0; v < m.vertices.size(); ++v)
     if (m.vertices[v].z() > m.vertices[src].z()) src = int(v);
 #ifdef ORTHOFACE_HAVE_CGAL
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using SM = CGAL::Surface_mesh<K::Point_3>;
-  using SP = CGAL::Surface_mesh_shortest_path<CGAL::Surface_mesh_shortest_path_traits<K, SM>>;
-  SM sm;
-  std::vector<SM::Vertex_index> vh;
-  for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
-  model::TriMesh same;  // exactly the faces CGAL accepted, so both solve the same surface
-  same.vertices = m.vertices;
-  for (const auto& t : m.triangles)
-    if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) != SM::null_face()) same.triangles.push_back(t);
+  CgalMesh cm(m);
+  auto& [sm, vh, same] = cm;  // same: exactly the faces CGAL accepted (both solve one surface)
   j["faces_rejected_by_cgal"] = m.triangles.size() - same.triangles.size();
   auto t0 = Clock::now();
   SP sp(sm);
@@ -215,17 +227,12 @@ nlohmann::json matrix_accuracy(int target_vertices, int sources) {
   const int n = int(m.vertices.size());
   nlohmann::json j{{"vertices", n}, {"sources", sources}};
 #ifdef ORTHOFACE_HAVE_CGAL
-  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-  using SM = CGAL::Surface_mesh<K::Point_3>;
-  using SP = CGAL::Surface_mesh_shortest_path<CGAL::Surface_mesh_shortest_path_traits<K, SM>>;
-  SM sm;
-  std::vector<SM::Vertex_index> vh;
-  for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
-  for (const auto& t : m.triangles)
-    if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) == SM::null_face()) {
-      j["skipped"] = "CGAL rejected a face";
-      return j;
-    }
+  CgalMesh cm(m);
+  auto& [sm, vh, accepted] = cm;
+  if (accepted.triangles.size() != m.triangles.size()) {
+    j["skipped"] = "CGAL rejected a face";
+    return j;
+  }
   model::GeodesicSolver solver(m);  // the unsymmetrised runs, one row per source vertex
   model::DistanceMatrix g{n, std::vector<float>(size_t(n) * n)};
   for (int s = 0; s < n; ++s) solver.distances_into(s, g.values.data() + size_t(s) * n);
