@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <future>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
@@ -38,12 +40,24 @@ struct SideResult {
   double facing_confidence = 0;
 };
 
-SideResult observe_side(const cv::Mat& side, const cv::Mat& bg, SideCamera cam,
+// The side photo's foreground probability and head blob: they need nothing from the front view,
+// so observe() computes them while it segments the front.
+struct SideBlob {
+  cv::Mat prob, mask;
+  int blobs = 0;
+};
+SideBlob side_blob(const cv::Mat& side, const cv::Mat& bg) {
+  SideBlob b;
+  b.prob = foreground_probability(side, bg);
+  b.mask = head_mask(b.prob, {}, &b.blobs);
+  return b;
+}
+
+SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera cam,
                         double min_head_height_px, std::vector<std::string>& warn) {
   SideResult r;
-  const cv::Mat prob = foreground_probability(side, bg);
-  int blobs = 0;
-  const cv::Mat mask = head_mask(prob, {}, &blobs);
+  const cv::Mat &prob = blob.prob, &mask = blob.mask;
+  const int blobs = blob.blobs;
   if (mask.empty()) {
     warn.push_back("side view: no head found (no subject distinct from the background)");
     return r;
@@ -183,10 +197,12 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // The front blob first: its head width bounds the side view's head height from below (a head
   // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
   // underestimates. A hood or collar widening the blob below the head does not count.
+  // The two photos' segmentations are independent: the side's runs on a second thread.
+  std::future<SideBlob> side_seg = std::async(std::launch::async, side_blob, std::cref(side), std::cref(bgs));
   const FrontHead head = segment_front(front, bgf);
   const double row_scale = double(front.rows) / side.rows;
   const double min_h = head.mask.empty() ? 0.0 : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
-  const SideResult s = observe_side(side, bgs, o.side_camera, min_h, obs.warnings);
+  const SideResult s = observe_side(side, side_seg.get(), o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
   observe_front(front, bgf, head, s.profile, row_scale, o, obs);
   for (const auto& p : s.profile.curve) obs.side.boundary.push_back(out_px(p));
