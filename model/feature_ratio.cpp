@@ -9,6 +9,7 @@
 
 #include "model/geodesics.h"
 #include "model/mpeg4_features.h"
+#include "model/parallel_rows.h"
 
 namespace orthoface::model {
 
@@ -78,30 +79,45 @@ std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureO
   } else {
     sources = farthest_point_sample(p, options.max_sources);
   }
-  GeodesicSolver solver(mesh);
   GeodesicOptions go;
   go.max_distance = options.ratio_cap * r;
-  std::vector<double> ratio(p.size(), 1.0), geo(p.size(), -1.0);
-  for (int s : sources) {
-    const auto reached = solver.reached({s}, go);
-    for (const auto& [v, d] : reached) geo[v] = d;
-    const auto [cx, cy, cz] = cell_of(p[s], r);
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          const auto it = grid.find({cx + dx, cy + dy, cz + dz});
-          if (it == grid.end()) continue;
-          for (int u : it->second) {
-            const double e = (p[u] - p[s]).norm();
-            if (u == s || e > r || e <= 0.0) continue;
-            const double g = geo[u] >= 0.0 ? geo[u] : go.max_distance;
-            const double q = std::min(options.ratio_cap, g / e);
-            ratio[s] = std::max(ratio[s], q);
-            ratio[u] = std::max(ratio[u], q);
-          }
-        }
-    for (const auto& [v, d] : reached) geo[v] = -1.0;
-  }
+  // Sources split over the hardware threads, each with its own solver and ratio array; the
+  // arrays are merged by maximum (order-free, so the result does not depend on the split).
+  struct Worker {
+    GeodesicSolver solver;
+    std::vector<double> geo, ratio;
+  };
+  const int n_sources = static_cast<int>(sources.size());
+  std::vector<std::vector<double>> ratios(detail::row_threads(n_sources));
+  detail::parallel_rows(
+      n_sources,
+      [&](int) { return Worker{GeodesicSolver(mesh), std::vector<double>(p.size(), -1.0),
+                               std::vector<double>(p.size(), 1.0)}; },
+      [&](Worker& w, int k) {
+        const int s = sources[k];
+        const auto reached = w.solver.reached({s}, go);
+        for (const auto& [v, d] : reached) w.geo[v] = d;
+        const auto [cx, cy, cz] = cell_of(p[s], r);
+        for (long dx = -1; dx <= 1; ++dx)
+          for (long dy = -1; dy <= 1; ++dy)
+            for (long dz = -1; dz <= 1; ++dz) {
+              const auto it = grid.find({cx + dx, cy + dy, cz + dz});
+              if (it == grid.end()) continue;
+              for (int u : it->second) {
+                const double e = (p[u] - p[s]).norm();
+                if (u == s || e > r || e <= 0.0) continue;
+                const double g = w.geo[u] >= 0.0 ? w.geo[u] : go.max_distance;
+                const double q = std::min(options.ratio_cap, g / e);
+                w.ratio[s] = std::max(w.ratio[s], q);
+                w.ratio[u] = std::max(w.ratio[u], q);
+              }
+            }
+        for (const auto& [v, d] : reached) w.geo[v] = -1.0;
+      },
+      [&](Worker& w, int index) { ratios[index] = std::move(w.ratio); });
+  std::vector<double> ratio(p.size(), 1.0);
+  for (const auto& part : ratios)
+    for (size_t v = 0; v < part.size(); ++v) ratio[v] = std::max(ratio[v], part[v]);
   return ratio;
 }
 

@@ -8,6 +8,8 @@
 #include <thread>
 #include <tuple>
 
+#include "model/parallel_rows.h"
+
 namespace orthoface::model {
 namespace {
 
@@ -53,21 +55,6 @@ inline double planar_update(double da, double db, double ab, double ac, double b
   return std::min(edge_bound, std::sqrt((cx - sx) * (cx - sx) + (cy - sy) * (cy - sy)));
 }
 
-// Rows [0, n) of a matrix filled by `fill_row(worker, row)` on all hardware threads, each worker
-// with its own scratch state made by `make_worker()`.
-template <class MakeWorker, class FillRow>
-void parallel_rows(int n, MakeWorker make_worker, FillRow fill_row) {
-  const int threads = std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / 64));
-  std::atomic<int> next{0};
-  auto run = [&] {
-    auto worker = make_worker();
-    for (int row = next++; row < n; row = next++) fill_row(worker, row);
-  };
-  std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(run);
-  run();
-  for (auto& t : pool) t.join();
-}
 
 }  // namespace
 
@@ -333,8 +320,8 @@ DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int m
       std::vector<float> dist;
       BucketQueue<int> queue;
     };
-    parallel_rows(
-        n, [&] { return Scratch{std::vector<float>(n), dijkstra_queue(g)}; },
+    detail::parallel_rows(
+        n, [&](int) { return Scratch{std::vector<float>(n), dijkstra_queue(g)}; },
         [&](Scratch& w, int s) {
           // Float sums: the relative rounding over a path of k edges is ~k x 6e-8.
           dijkstra(g, {s}, kInf, w.dist, w.queue);
@@ -342,8 +329,8 @@ DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int m
         });
   } else {
     const GeodesicSolver prototype(mesh);  // copied per worker: its scratch arrays are per run
-    parallel_rows(
-        n, [&] { return prototype; },
+    detail::parallel_rows(
+        n, [&](int) { return prototype; },
         [&](GeodesicSolver& solver, int s) { solver.distances_into(s, row(s)); });
     symmetrize_min(m);
   }
@@ -359,8 +346,8 @@ DistanceMatrix euclidean_matrix(const TriMesh& mesh, int max_vertices) {
   for (int i = 0; i < n; ++i)
     x[i] = float(mesh.vertices[i].x()), y[i] = float(mesh.vertices[i].y()),
     z[i] = float(mesh.vertices[i].z());
-  parallel_rows(
-      n, [] { return 0; },
+  detail::parallel_rows(
+      n, [](int) { return 0; },
       [&](int, int i) {
         Eigen::Map<Eigen::ArrayXf> row(m.values.data() + static_cast<size_t>(i) * n, n);
         row = ((x - x[i]).square() + (y - y[i]).square() + (z - z[i]).square()).sqrt();
