@@ -3,13 +3,13 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <map>
+#include <numeric>
 #include <stdexcept>
-#include <tuple>
 
 #include "model/geodesics.h"
 #include "model/mpeg4_features.h"
 #include "model/parallel_rows.h"
+#include "model/point_grid.h"
 
 namespace orthoface::model {
 
@@ -44,13 +44,6 @@ std::vector<int> farthest_point_sample(const std::vector<Eigen::Vector3d>& p, in
   return out;
 }
 
-using Cell = std::tuple<long, long, long>;
-
-Cell cell_of(const Eigen::Vector3d& p, double size) {
-  return {long(std::floor(p.x() / size)), long(std::floor(p.y() / size)),
-          long(std::floor(p.z() / size))};
-}
-
 }  // namespace
 
 double pose_free_size(const TriMesh& mesh) {
@@ -71,14 +64,12 @@ std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureO
   const auto& p = mesh.vertices;
   const double r = options.neighbourhood * pose_free_size(mesh);
   if (!(r > 0.0)) throw std::invalid_argument("geodesic_euclidean_ratio: mesh has no extent");
-  std::map<Cell, std::vector<int>> grid;
-  for (size_t i = 0; i < p.size(); ++i) grid[cell_of(p[i], r)].push_back(int(i));
-  std::vector<int> sources;
-  if (int(p.size()) <= options.max_sources) {
-    for (size_t i = 0; i < p.size(); ++i) sources.push_back(int(i));
-  } else {
-    sources = farthest_point_sample(p, options.max_sources);
-  }
+  std::vector<int> all(p.size());
+  std::iota(all.begin(), all.end(), 0);
+  const detail::PointGrid grid(p, r, all);
+  const std::vector<int> sources = int(p.size()) <= options.max_sources
+                                       ? all
+                                       : farthest_point_sample(p, options.max_sources);
   GeodesicOptions go;
   go.max_distance = options.ratio_cap * r;
   // Sources split over the hardware threads, each with its own solver and ratio array; the
@@ -97,21 +88,14 @@ std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureO
         const int s = sources[k];
         const auto reached = w.solver.reached({s}, go);
         for (const auto& [v, d] : reached) w.geo[v] = d;
-        const auto [cx, cy, cz] = cell_of(p[s], r);
-        for (long dx = -1; dx <= 1; ++dx)
-          for (long dy = -1; dy <= 1; ++dy)
-            for (long dz = -1; dz <= 1; ++dz) {
-              const auto it = grid.find({cx + dx, cy + dy, cz + dz});
-              if (it == grid.end()) continue;
-              for (int u : it->second) {
-                const double e = (p[u] - p[s]).norm();
-                if (u == s || e > r || e <= 0.0) continue;
-                const double g = w.geo[u] >= 0.0 ? w.geo[u] : go.max_distance;
-                const double q = std::min(options.ratio_cap, g / e);
-                w.ratio[s] = std::max(w.ratio[s], q);
-                w.ratio[u] = std::max(w.ratio[u], q);
-              }
-            }
+        grid.for_each_near(p[s], r, [&](int u) {
+          const double e = (p[u] - p[s]).norm();
+          if (u == s || e <= 0.0) return;
+          const double g = w.geo[u] >= 0.0 ? w.geo[u] : go.max_distance;
+          const double q = std::min(options.ratio_cap, g / e);
+          w.ratio[s] = std::max(w.ratio[s], q);
+          w.ratio[u] = std::max(w.ratio[u], q);
+        });
         for (const auto& [v, d] : reached) w.geo[v] = -1.0;
       },
       [&](Worker& w, int index) { ratios[index] = std::move(w.ratio); });

@@ -14,11 +14,13 @@
 #include "model/feature_detail.h"
 #include "model/geodesics.h"
 #include "model/mpeg4_names.h"
+#include "model/point_grid.h"
 
 namespace orthoface::model {
 namespace {
 
 using detail::LocalFrame;
+using detail::PointGrid;
 
 struct Cluster {
   std::vector<int> vertices;
@@ -35,48 +37,6 @@ std::vector<double> vertex_areas(const TriMesh& m) {
   }
   return a;
 }
-
-// Vertices bucketed in cubes of side `cell` for radius queries (radius <= cell).
-class PointGrid {
- public:
-  PointGrid(const std::vector<Eigen::Vector3d>& points, double cell, const std::vector<int>& subset)
-      : points_(points), cell_(cell) {
-    for (int v : subset) cells_[key(points[v])].push_back(v);
-  }
-  // Calls f(u) for every stored vertex within `radius` of p.
-  template <class F>
-  void for_each_near(const Eigen::Vector3d& p, double radius, F&& f) const {
-    const auto [kx, ky, kz] = key(p);
-    for (long dx = -1; dx <= 1; ++dx)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dz = -1; dz <= 1; ++dz) {
-          const auto it = cells_.find({kx + dx, ky + dy, kz + dz});
-          if (it == cells_.end()) continue;
-          for (int u : it->second)
-            if ((points_[u] - p).norm() <= radius) f(u);
-        }
-  }
-  // Nearest stored vertex within `radius` of p, or -1.
-  int nearest(const Eigen::Vector3d& p, double radius) const {
-    int best = -1;
-    double best_d = radius;
-    for_each_near(p, radius, [&](int u) {
-      const double d = (points_[u] - p).norm();
-      if (d <= best_d) best_d = d, best = u;
-    });
-    return best;
-  }
-
- private:
-  using Key = std::tuple<long, long, long>;
-  Key key(const Eigen::Vector3d& p) const {
-    return {long(std::floor(p.x() / cell_)), long(std::floor(p.y() / cell_)),
-            long(std::floor(p.z() / cell_))};
-  }
-  const std::vector<Eigen::Vector3d>& points_;
-  double cell_;
-  std::map<Key, std::vector<int>> cells_;
-};
 
 std::vector<int> all_vertices(const TriMesh& m) {
   std::vector<int> v(m.vertices.size());
