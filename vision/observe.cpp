@@ -67,11 +67,11 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
   if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
     warn.push_back("side view: facing direction unsure; give --side-camera left|right");
-  // Mirrored copies in fresh buffers (flipping into a header of `side` would mirror `side`
-  // itself in place, and observe() reads it again afterwards).
-  cv::Mat im = side, pr = prob, mk = mask;
-  if (!r.faces_left) im = cv::Mat(), pr = cv::Mat(), mk = cv::Mat();
-  if (!r.faces_left) cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
+  // A right-facing profile is mirrored into fresh buffers (flipping into a header of `side`
+  // would mirror `side` itself in place, and observe() reads it again afterwards).
+  cv::Mat im, pr, mk;
+  if (r.faces_left) im = side, pr = prob, mk = mask;
+  else cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
   SideProfileOptions so;
   so.min_head_height_px = min_head_height_px;
   r.profile = side_profile(im, pr, mk, so);
