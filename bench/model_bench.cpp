@@ -14,12 +14,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "bench/bench_report.h"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -355,12 +356,9 @@ int run_accuracy(int subjects, const std::string& out_dir) {
               "NNWA relative error vs features (true landmarks)", "named features used");
     const std::string png = out_dir + "/model_sweeps.png";
     if (!cv::imwrite(png, img)) throw std::runtime_error("cannot write " + png);
-    std::ofstream(out_dir + "/model_accuracy.md") << md;
-    std::ofstream(out_dir + "/model_accuracy.json") << out.dump(2) << "\n";
     out["plot"] = png;
   }
-  std::cout << out.dump(2) << "\n";
-  std::cerr << md;
+  bench::write_report(out_dir, "model_accuracy", out, md);
   return 0;
 }
 

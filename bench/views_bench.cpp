@@ -21,13 +21,14 @@
 #include <complex>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "bench/bench_report.h"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/objdetect.hpp>
@@ -306,12 +307,7 @@ int run_sim(int subjects, const std::string& out_dir) {
   } else {
     md += "\n(Lee Perry-Smith scan not found in " + scan_dir.string() + ": skipped)\n";
   }
-  if (!out_dir.empty()) {
-    std::ofstream(out_dir + "/views_accuracy.md") << md;
-    std::ofstream(out_dir + "/views_accuracy.json") << out.dump(2) << "\n";
-  }
-  std::cout << out.dump(2) << "\n";
-  std::cerr << md;
+  bench::write_report(out_dir, "views_accuracy", out, md);
   return 0;
 }
 
@@ -526,10 +522,7 @@ int run_frmdb(const std::string& dir, const std::string& out_dir) {
     md += cv::format("| **mean (%d)** | **%.3f** | %.3f | %.3f | |\n", n, sum[0] / n, sum[1] / n,
                      sum[2] / n);
   }
-  std::ofstream(out_dir + "/frmdb_views.md") << md;
-  std::ofstream(out_dir + "/frmdb_views.json") << out.dump(2) << "\n";
-  std::cout << out.dump(2) << "\n";
-  std::cerr << md;
+  bench::write_report(out_dir, "frmdb_views", out, md);
   return 0;
 }
 

@@ -161,24 +161,22 @@ int simshow(int seed, const std::string& outdir, const std::string& cond) {
     cv::line(m, c - cv::Point2d(6, 6), c + cv::Point2d(6, 6), cv::Scalar(0, 255, 0), 2);
     cv::line(m, c - cv::Point2d(6, -6), c + cv::Point2d(6, -6), cv::Scalar(0, 255, 0), 2);
   };
+  // One view's truth cross on its overlay and truth / found / error / method in `r`.
+  const auto score = [&](json& r, const std::string& view, cv::Mat& overlay,
+                         const Eigen::Vector2d& truth, const ov::ViewObservation& found,
+                         const std::string& name) {
+    cross(overlay, truth);
+    r[view + "_truth"] = {truth.x(), truth.y()};
+    const auto it = found.features.find(name);
+    if (it == found.features.end()) return;
+    r[view + "_found"] = {it->second.px.x, it->second.px.y};
+    r[view + "_err"] = std::hypot(it->second.px.x - truth.x(), it->second.px.y - truth.y());
+    r[view + "_method"] = it->second.method;
+  };
   for (const auto& [name, t] : cap.landmarks) {
     json r = json::object();
-    if (t.visible_front) {
-      cross(f, t.front_px);
-      r["front_truth"] = {t.front_px.x(), t.front_px.y()};
-      if (auto it = obs.front.features.find(name); it != obs.front.features.end())
-        r["front_found"] = {it->second.px.x, it->second.px.y},
-        r["front_err"] = std::hypot(it->second.px.x - t.front_px.x(), it->second.px.y - t.front_px.y()),
-        r["front_method"] = it->second.method;
-    }
-    if (t.visible_side) {
-      cross(s, t.side_px);
-      r["side_truth"] = {t.side_px.x(), t.side_px.y()};
-      if (auto it = obs.side.features.find(name); it != obs.side.features.end())
-        r["side_found"] = {it->second.px.x, it->second.px.y},
-        r["side_err"] = std::hypot(it->second.px.x - t.side_px.x(), it->second.px.y - t.side_px.y()),
-        r["side_method"] = it->second.method;
-    }
+    if (t.visible_front) score(r, "front", f, t.front_px, obs.front, name);
+    if (t.visible_side) score(r, "side", s, t.side_px, obs.side, name);
     out[name] = r;
   }
   const std::string base = outdir + "/sim" + std::to_string(seed) + "_" + cond;
