@@ -66,6 +66,12 @@ struct Profile {
       }
     return arg;
   }
+  // True when z at sample k is the highest within +-win samples (both inside the profile).
+  bool peak_at(int k, int win) const {
+    for (int j = k - win; j <= k + win; ++j)
+      if (z[j] > z[k]) return false;
+    return true;
+  }
 };
 
 // Upper lip (labrale superius): the first peak of z (the highest over +-2 mm) going up from the
@@ -78,9 +84,7 @@ size_t upper_lip(const Profile& p, double y_mouth, double y_top) {
   for (int k = int(p.y.size()) - 1 - win; k >= win; --k) {  // from the bottom up
     if (p.y[k] < y_mouth) continue;
     if (p.y[k] > y_top) break;
-    bool peak = true;
-    for (int j = k - win; j <= k + win && peak; ++j) peak = p.z[j] <= p.z[k];
-    if (peak) return size_t(k);
+    if (p.peak_at(k, win)) return size_t(k);
   }
   return p.best(y_mouth, y_top, [](double, double z) { return z; });
 }
@@ -98,9 +102,7 @@ size_t pogonion(const Profile& p, double y_menton, double y_lip_lower) {
   for (int k = n - 1 - win; k >= win; --k) {  // from the bottom up
     if (p.y[k] < y_menton - 2) continue;
     if (p.y[k] > y_top) break;
-    bool peak = true;
-    for (int j = k - win; j <= k + win && peak; ++j) peak = p.z[j] <= p.z[k];
-    if (!peak) continue;
+    if (!p.peak_at(k, win)) continue;
     double z_fold = p.z[k];
     for (int j = k - 1; j >= std::max(0, k - fold) && p.y[j] <= y_top; --j) z_fold = std::min(z_fold, p.z[j]);
     if (p.z[k] - z_fold >= 0.3) return size_t(k);
