@@ -8,9 +8,10 @@
 
 namespace orthoface::model::detail {
 
-// Threads parallel_rows uses for n rows: the hardware threads, but at least 64 rows each.
-inline int row_threads(int n) {
-  return std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / 64));
+// Threads parallel_rows uses for n rows: the hardware threads, but at least `min_rows` rows
+// each.
+inline int row_threads(int n, int min_rows = 64) {
+  return std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / min_rows));
 }
 
 struct NoFinish {
@@ -20,10 +21,12 @@ struct NoFinish {
 
 // Rows [0, n) filled by `fill_row(worker, row)` on row_threads(n) threads, each worker with its
 // own scratch state made by `make_worker(thread_index)` and handed to `finish(worker,
-// thread_index)` when the rows run out (e.g. to collect per-thread results).
+// thread_index)` when the rows run out (e.g. to collect per-thread results). Rows that are
+// large pieces of work (blocks) can lower `min_rows`, the fewest rows worth a thread.
 template <class MakeWorker, class FillRow, class Finish = NoFinish>
-void parallel_rows(int n, MakeWorker make_worker, FillRow fill_row, Finish finish = {}) {
-  const int threads = row_threads(n);
+void parallel_rows(int n, MakeWorker make_worker, FillRow fill_row, Finish finish = {},
+                   int min_rows = 64) {
+  const int threads = row_threads(n, min_rows);
   std::atomic<int> next{0};
   auto run = [&](int index) {
     auto worker = make_worker(index);

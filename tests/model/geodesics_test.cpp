@@ -66,8 +66,12 @@ TEST(GeodesicDistances, MaxDistanceStopsAndMarksUnreached) {
   const auto d = geodesic_distances(m, {0}, o);
   for (size_t i = 0; i < m.vertices.size(); ++i) {
     const double e = m.vertices[i].norm();
-    if (e > 5.0 + 1e-9) EXPECT_TRUE(std::isinf(d[i])) << i;
-    if (e < 4.9) EXPECT_NEAR(d[i], e, 1e-9) << i;
+    if (e > 5.0 + 1e-9) {
+      EXPECT_TRUE(std::isinf(d[i])) << i;
+    }
+    if (e < 4.9) {
+      EXPECT_NEAR(d[i], e, 1e-9) << i;
+    }
   }
 }
 
@@ -142,6 +146,29 @@ TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
   }
   EXPECT_THROW(geodesic_matrix(m, GeodesicMethod::kEdgeGraph, 100), std::invalid_argument);
   EXPECT_THROW(euclidean_matrix(m, 100), std::invalid_argument);
+}
+
+TEST(DistanceMatrices, EdgeGraphMatrixIsDijkstraRowByRow) {
+  // 642 vertices: 20 full blocks of sources and a part block; a second component stays at +inf.
+  TriMesh m = icosphere(3, 20.0);
+  const int n = int(m.vertices.size());
+  m.vertices.emplace_back(50, 50, 50), m.vertices.emplace_back(51, 50, 50);
+  m.vertices.emplace_back(50, 51, 50);
+  m.triangles.push_back({n, n + 1, n + 2});
+  const DistanceMatrix eg = geodesic_matrix(m, GeodesicMethod::kEdgeGraph);
+  ASSERT_EQ(eg.n, n + 3);
+  for (int s : {0, 1, 31, 32, 333, n - 1, n, n + 2}) {
+    const auto d = edge_graph_distances(m, {s});
+    for (int j = 0; j < eg.n; ++j) {
+      if (std::isinf(d[j])) {
+        EXPECT_TRUE(std::isinf(eg.at(s, j))) << s << " " << j;
+        continue;
+      }
+      EXPECT_NEAR(eg.at(s, j), d[j], 1e-6 * d[j]) << s << " " << j;  // float vs double sums
+    }
+  }
+  EXPECT_FLOAT_EQ(eg.at(n, n + 1), 1.0f);
+  EXPECT_TRUE(std::isinf(eg.at(0, n)));
 }
 
 TEST(GeodesicSolver, DistancesIntoMatchesDistances) {
