@@ -1,6 +1,7 @@
 #include "render/gl_util.h"
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -162,15 +163,20 @@ std::array<float, 16> clip_from_head(const capture::CameraModel& c, double n, do
   return out;
 }
 
-void window_depth_to_zcam(cv::Mat& depth, double n, double f, bool perspective) {
-  const cv::Mat empty = depth >= 1.0f;
-  if (perspective) {  // inverse of the clip z: z = f n / (f - d (f - n))
-    depth.convertTo(depth, CV_32F, -(f - n), f);
-    cv::divide(f * n, depth, depth);
-  } else {
-    depth.convertTo(depth, CV_32F, f - n, n);
+void window_depth_to_zcam(cv::Mat& depth, double n, double f, bool perspective, cv::Mat* mask) {
+  if (mask) mask->create(depth.size(), CV_8U);
+  const float inf = std::numeric_limits<float>::infinity(), fn = float(f * n), span = float(f - n),
+              near = float(n), far = float(f);
+  for (int r = 0; r < depth.rows; ++r) {
+    float* z = depth.ptr<float>(r);
+    std::uint8_t* drawn = mask ? mask->ptr<std::uint8_t>(r) : nullptr;
+    for (int c = 0; c < depth.cols; ++c) {
+      const float d = z[c];
+      // perspective: the inverse of the clip z, z = f n / (f - d (f - n)); orthographic: linear
+      z[c] = d >= 1.0f ? inf : perspective ? fn / (far - d * span) : near + d * span;
+      if (drawn) drawn[c] = d < 1.0f ? 255 : 0;
+    }
   }
-  depth.setTo(std::numeric_limits<float>::infinity(), empty);
 }
 
 std::array<float, 4> zcam_row(const capture::CameraModel& c) {
@@ -264,16 +270,20 @@ RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool per
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
+  // One pass, on this thread (cvtColor would wake OpenCV's workers for every frame).
+  r.image.create(h, w, CV_8UC3);
   if (!with_depth) {
-    cv::extractChannel(bgra, r.mask, 3);
-    cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
+    r.mask.create(h, w, CV_8U);
+    cv::Mat outs[2] = {r.image, r.mask};
+    const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
+    cv::mixChannels(&bgra, 1, outs, 2, from_to, 4);
     return r;
   }
+  const int from_to[6] = {0, 0, 1, 1, 2, 2};
+  cv::mixChannels(&bgra, 1, &r.image, 1, from_to, 3);
   r.depth_mm.create(h, w, CV_32F);
   glReadPixels(0, 0, w, h, GL_DEPTH_COMPONENT, GL_FLOAT, r.depth_mm.data);
-  cv::cvtColor(bgra, r.image, cv::COLOR_BGRA2BGR);
-  r.mask = r.depth_mm < 1.0f;
-  window_depth_to_zcam(r.depth_mm, nf[0], nf[1], perspective);
+  window_depth_to_zcam(r.depth_mm, nf[0], nf[1], perspective, &r.mask);
   return r;
 }
 

@@ -84,8 +84,10 @@ std::array<float, 16> clip_from_head(const capture::CameraModel& camera, double 
                                      double far_mm);
 
 // In place: GL window depth (0..1, from a near_far / clip_from_head projection) to z_cam in mm;
-// 1.0 (cleared, nothing drawn) becomes +infinity. `depth` is CV_32F.
-void window_depth_to_zcam(cv::Mat& depth, double near_mm, double far_mm, bool perspective);
+// 1.0 (cleared, nothing drawn) becomes +infinity. `depth` is CV_32F. With `mask`, also writes
+// 255 where something was drawn, 0 elsewhere (CV_8U, same size). One pass on the calling thread.
+void window_depth_to_zcam(cv::Mat& depth, double near_mm, double far_mm, bool perspective,
+                          cv::Mat* mask = nullptr);
 
 // Row 3 of cam_from_head: dot(row, (p_head, 1)) = z_cam.
 std::array<float, 4> zcam_row(const capture::CameraModel& camera);
