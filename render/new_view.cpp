@@ -1,8 +1,11 @@
 #include "render/new_view.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -69,9 +72,18 @@ void upload_bgr(const cv::Mat& bgr, const cv::Mat& mask, GLuint& tex, cv::Size& 
 }
 
 // The synthesis fragment shader specialised for the rig's source cameras and the options.
-std::string view_fragment(const capture::RigCalibration& rig, bool per_pixel, bool weighted) {
+// Occlusion test of a view program (the VISIBILITY define of kViewFragment).
+enum class Visibility { kNone = 0, kPerVertex = 1, kPerPixel = 2 };
+
+// How ViewSynthesizer::Impl::order_triangles sorts a triangle for per-pixel visibility, in
+// element-buffer order.
+enum class TriangleClass { kFrontOnly = 0, kSideOnly = 1, kUnoccluded = 2, kTested = 3 };
+
+std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility,
+                          bool weighted, int only_source) {
   std::string defines = "#version 330 core\n";
-  if (per_pixel) defines += "#define PER_PIXEL_VISIBILITY 1\n";
+  defines += "#define VISIBILITY " + std::to_string(int(visibility)) + "\n";
+  if (only_source >= 0) defines += "#define ONLY_SOURCE " + std::to_string(only_source) + "\n";
   if (weighted) defines += "#define WEIGHTED 1\n";
   const capture::CameraModel* cams[2] = {&rig.front, &rig.side};
   for (int i = 0; i < 2; ++i) {
@@ -133,12 +145,17 @@ void SynthesisOptions::check() const {
 
 struct ViewSynthesizer::Impl {
   gl::Context context;
-  GLuint view_prog[4] = {0, 0, 0, 0};  // by 2 * per-pixel visibility + weighted; on first use
+  GLuint view_prog[18] = {};  // by Visibility, weighted and only source; made on first use
   GLuint depth_prog = 0, equalize_prog = 0;
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
   GLuint seen_vbo = 0;  // per-vertex visibility in each source (attribute 4)
   std::vector<Eigen::Vector3d> vertices, normals;
+  std::vector<std::array<int, 3>> triangles;
+  // The element buffer in TriangleClass order, `class_count` indices of each, for the options
+  // in `ordered_for` (the blend and visibility settings; none: mesh order, all kTested).
+  std::optional<SynthesisOptions> ordered_for;
+  std::array<GLsizei, 4> class_count{};
   capture::RigCalibration rig;
   SourceGl src[2];
   bool has_photos = false;
@@ -176,11 +193,18 @@ struct ViewSynthesizer::Impl {
   void render_source_depth(int i);
   void find_footprints();
   void upload_seen();
+  void order_triangles(const SynthesisOptions& o);
   void upload_photos(const cv::Mat& front, const cv::Mat& side);
   void match_colours();
   void equalize_photos();
   void source_uniforms(GLuint prog);
-  GLuint view_program(const SynthesisOptions& o);
+  GLuint view_program(Visibility visibility, bool weighted, int only_source);
+  // Whether the element buffer's classes were made for options that sort like `o`.
+  bool same_classes(const SynthesisOptions& o) const {
+    return ordered_for && ordered_for->blend == o.blend &&
+           ordered_for->feather_deg == o.feather_deg &&
+           ordered_for->visibility_tolerance_mm == o.visibility_tolerance_mm;
+  }
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -276,6 +300,108 @@ void ViewSynthesizer::Impl::upload_seen() {
   glBindVertexArray(0);
 }
 
+// Sorts the element buffer by TriangleClass for the options `o`. What kViewFragment computes
+// for a surface point does not depend on the view: the facing cosines, the photo positions and
+// the occlusion test against the sources' depth maps are all fixed by the mesh and the rig. So
+// triangles where it is provably one photo alone (kFrontOnly / kSideOnly: one texture fetch),
+// or where neither depth map occludes the triangle (kUnoccluded: no occlusion fetches) are
+// drawn by cheaper programs with the same result; the rest (kTested) by the full one. Texel
+// tests sample each triangle every half source pixel against the 3 x 3 minimum of the depth
+// map and of the subject mask (the shader reads the texels around any point within a pixel of
+// a sample), the sample's depth raised by one step of the sampling grid.
+void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
+  cv::Mat nearest[2], mask[2];
+  bool maskable[2];
+  for (int i = 0; i < 2; ++i) {
+    cv::erode(src[i].depth, nearest[i], cv::Mat());  // 3x3 minimum
+    if (!src[i].mask.empty()) cv::erode(src[i].mask, mask[i], cv::Mat());
+    maskable[i] = src[i].photo_size == src[i].raw.size();  // texture texels = photo pixels
+  }
+  struct SourceTest {
+    bool unoccluded = true;  // the occlusion test passes wherever the source's share can be > 0
+    bool whole = false;      // and its share is exactly 1 everywhere (facing, frame, mask)
+  };
+  auto test = [&](const std::array<int, 3>& t, int i) {
+    const capture::CameraModel& c = cam(i);
+    const bool perspective = c.projection == capture::Projection::Perspective;
+    Eigen::Vector3d z, cosine;
+    Eigen::Vector2d uv[3];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p = vertices[t[k]];
+      cosine[k] = detail::facing(c, p, normals[t[k]]);
+      z[k] = capture::depth(c, p);
+      uv[k] = detail::undistorted_pixel(c, p);
+    }
+    SourceTest r;
+    if (cosine.maxCoeff() <= 0) return r;  // faces away: share 0 everywhere
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, (uv[k] - uv[(k + 1) % 3]).norm());
+    if (!std::isfinite(longest)) return SourceTest{false, false};
+    r.whole = cosine.minCoeff() >= 0.1 && maskable[i];  // smoothstep(0, 0.1, cos) == 1
+    const int steps = std::max(1, int(std::ceil(2.0 * longest)));
+    const double z_step = (z.maxCoeff() - z.minCoeff()) / steps;
+    for (int a = 0; a <= steps; ++a)
+      for (int b = 0; a + b <= steps; ++b) {
+        const Eigen::Vector3d w(double(a) / steps, double(b) / steps,
+                                double(steps - a - b) / steps);
+        const double cos_p = w.dot(cosine), z_p = w.dot(z);
+        if (cos_p <= 0 || (perspective && !(z_p > 0))) {  // share 0 here
+          r.whole = false;
+          continue;
+        }
+        const Eigen::Vector3d p = w[0] * vertices[t[0]] + w[1] * vertices[t[1]] +
+                                  w[2] * vertices[t[2]];
+        const Eigen::Vector2d u = detail::undistorted_pixel(c, p);
+        const int col = std::clamp(int(std::floor(u.x())), 0, c.width - 1);
+        const int row = std::clamp(int(std::floor(u.y())), 0, c.height - 1);
+        const double px_mm = (perspective ? z_p : 1.0) / c.fx;
+        const double tol = o.visibility_tolerance_mm + 1.5 * px_mm / std::max(cos_p, 0.2);
+        if (!(z_p + z_step <= nearest[i].at<float>(row, col) + tol - 1e-3)) return SourceTest{false, false};
+        if (!r.whole) continue;
+        const Eigen::Vector2d d = capture::project(c, p);  // the photo position, distorted
+        const int dc = int(std::floor(d.x())), dr = int(std::floor(d.y()));
+        r.whole = dc >= 1 && dr >= 1 && dc + 1 < c.width && dr + 1 < c.height &&
+                  (mask[i].empty() || mask[i].at<std::uint8_t>(dr, dc) == 255);
+      }
+    return r;
+  };
+  // The blend's share of the front photo pf is 1 (0) where cos0 - cos1 >= feather (<= -), and
+  // these cosines are interpolated linearly: the corners decide for the whole triangle.
+  const double feather = std::max(std::sqrt(2.0) * o.feather_deg * M_PI / 180, 1e-6);
+  const bool weighted = o.blend == Blend::Weighted;
+  std::array<std::vector<std::array<int, 3>>, 4> by_class;
+  for (const auto& t : triangles) {
+    const SourceTest s0 = test(t, 0), s1 = test(t, 1);
+    double lead0 = INFINITY, lead1 = INFINITY, cos0 = -INFINITY, cos1 = -INFINITY;
+    for (int k = 0; k < 3; ++k) {
+      const double c0 = detail::facing(cam(0), vertices[t[k]], normals[t[k]]);
+      const double c1 = detail::facing(cam(1), vertices[t[k]], normals[t[k]]);
+      lead0 = std::min(lead0, c0 - c1), lead1 = std::min(lead1, c1 - c0);
+      cos0 = std::max(cos0, c0), cos1 = std::max(cos1, c1);
+    }
+    // Pick: the leading photo alone when it covers the triangle fully. Weighted: a photo alone
+    // only where the other faces away.
+    const bool front_only = s0.whole && (weighted ? cos1 <= 0 : lead0 >= feather);
+    const bool side_only = s1.whole && (weighted ? cos0 <= 0 : lead1 >= feather);
+    const auto c = front_only                       ? TriangleClass::kFrontOnly
+                   : side_only                      ? TriangleClass::kSideOnly
+                   : s0.unoccluded && s1.unoccluded ? TriangleClass::kUnoccluded
+                                                    : TriangleClass::kTested;
+    by_class[int(c)].push_back(t);
+  }
+  std::vector<std::array<int, 3>> sorted;
+  for (int k = 0; k < 4; ++k) {
+    class_count[k] = GLsizei(3 * by_class[k].size());
+    sorted.insert(sorted.end(), by_class[k].begin(), by_class[k].end());
+  }
+  glBindVertexArray(mesh.vao);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.ebo);
+  glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(sorted[0])),
+                  sorted.data());
+  glBindVertexArray(0);
+  ordered_for = o;
+}
+
 // Raw photo textures updated in place; a CPU copy is kept for the colour match.
 void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& side) {
   front.copyTo(src[0].raw);
@@ -322,12 +448,12 @@ void ViewSynthesizer::Impl::equalize_photos() {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-GLuint ViewSynthesizer::Impl::view_program(const SynthesisOptions& o) {
-  const bool weighted = o.blend == Blend::Weighted;
-  GLuint& p = view_prog[2 * int(o.per_pixel_visibility) + int(weighted)];
+GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted,
+                                           int only_source) {
+  GLuint& p = view_prog[6 * (only_source + 1) + 2 * int(visibility) + int(weighted)];
   if (!p) {
     p = gl::program(shaders::kViewVertex,
-                    view_fragment(rig, o.per_pixel_visibility, weighted).c_str(), "new_view");
+                    view_fragment(rig, visibility, weighted, only_source).c_str(), "new_view");
     source_uniforms(p);
   }
   return p;
@@ -339,7 +465,7 @@ void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
   auto loc = [&](const std::string& name) { return glGetUniformLocation(prog, name.c_str()); };
   for (int i = 0; i < 2; ++i) {
     const capture::CameraModel& c = cam(i);
-    const std::string at = "[" + std::to_string(i) + "]";
+    const std::string at = i == 0 ? "[0]" : "[1]";
     const Eigen::Matrix4f m = c.cam_from_head.matrix().cast<float>();
     glUniformMatrix4fv(loc("src_from_head" + at), 1, GL_FALSE, m.data());
     glUniform4f(loc("intr" + at), float(c.fx), float(c.fy), float(c.cx), float(c.cy));
@@ -381,6 +507,8 @@ void ViewSynthesizer::set_mesh(const model::TriMesh& mesh) {
   impl_->mesh.release();
   impl_->mesh = gl::upload_mesh(mesh, false);
   impl_->vertices = mesh.vertices;
+  impl_->triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
+  impl_->ordered_for.reset();  // mesh order
   impl_->normals = gl::vertex_normals(mesh);
   impl_->find_footprints();
   for (int i = 0; i < 2; ++i) impl_->render_source_depth(i);
@@ -417,6 +545,7 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
     }
     cv::erode(masks[i] != 0, impl_->src[i].mask, cv::Mat());  // 3x3: one pixel
   }
+  impl_->ordered_for.reset();  // the masks decide which triangles take one photo alone
   impl_->context.make_current();
   impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
   impl_->equalize_photos();
@@ -458,17 +587,23 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   const auto nf = gl::near_far(camera, m.mesh.lo, m.mesh.hi);
   if (nf[1] > nf[0]) {
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
-    const GLuint p = m.view_program(o);
-    glUseProgram(p);
-    glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
+    const bool weighted = o.blend == Blend::Weighted;
     // cos0 - cos1 changes by sqrt(2) per radian of normal rotation near the 45-degree switch;
     // a tiny band stands for feather 0 (a hard switch) as smoothstep needs edge0 < edge1.
     const double feather = std::sqrt(2.0) * o.feather_deg * M_PI / 180;
-    glUniform1f(glGetUniformLocation(p, "feather"), float(std::max(feather, 1e-6)));
-    glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
-    glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
-    glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
-                m.match.fill[1] / 255.0f, m.match.fill[0] / 255.0f);
+    auto draw = [&](Visibility visibility, int only_source, GLsizei first, GLsizei count) {
+      if (count == 0) return;
+      const GLuint p = m.view_program(visibility, weighted, only_source);
+      glUseProgram(p);
+      glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
+      glUniform1f(glGetUniformLocation(p, "feather"), float(std::max(feather, 1e-6)));
+      glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
+      glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
+      glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
+                  m.match.fill[1] / 255.0f, m.match.fill[0] / 255.0f);
+      glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(first * sizeof(GLuint)));
+    };
     const GLuint tex[4] = {o.equalize ? m.src[0].photo_eq : m.src[0].photo,
                            o.equalize ? m.src[1].photo_eq : m.src[1].photo, m.src[0].zmap,
                            m.src[1].zmap};
@@ -481,8 +616,20 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CW);  // window y = image row (see gl::clip_from_head)
     glEnable(GL_CULL_FACE);
+    const bool sorted = o.per_pixel_visibility && o.skip_unoccluded;
+    if (sorted && !m.same_classes(o)) m.order_triangles(o);
     glBindVertexArray(m.mesh.vao);
-    glDrawElements(GL_TRIANGLES, m.mesh.count, GL_UNSIGNED_INT, nullptr);
+    if (!o.per_pixel_visibility) {
+      draw(Visibility::kPerVertex, -1, 0, m.mesh.count);
+    } else if (!sorted) {
+      draw(Visibility::kPerPixel, -1, 0, m.mesh.count);
+    } else {
+      const auto& n = m.class_count;
+      draw(Visibility::kNone, 0, 0, n[0]);
+      draw(Visibility::kNone, 1, n[0], n[1]);
+      draw(Visibility::kNone, -1, n[0] + n[1], n[2]);
+      draw(Visibility::kPerPixel, -1, n[0] + n[1] + n[2], n[3]);
+    }
     glBindVertexArray(0);
   }
   SynthesisResult r;

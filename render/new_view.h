@@ -23,6 +23,7 @@ struct SynthesisOptions {
   double feather_deg = 6;              // Pick: blend over +-this normal angle around the switch
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
+  bool skip_unoccluded = true;         // per pixel: no test on triangles no source occludes
   double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
   cv::Scalar background{0, 0, 0};      // BGR 0..255

@@ -55,8 +55,10 @@ void main() {
 })";
 
 // Specialised by defines in front of this source (llvmpipe evaluates both sides of a branch,
-// so choices fixed per rig or per option are made at compile time): PER_PIXEL_VISIBILITY,
-// WEIGHTED (else pick), PERSPECTIVE0 / 1 and DISTORTED0 / 1 (0 or 1, per source camera).
+// so choices fixed per rig or per option are made at compile time): VISIBILITY (0: none, for
+// triangles no source depth map occludes; 1: per vertex; 2: per pixel), WEIGHTED (else pick),
+// ONLY_SOURCE (0 or 1: the triangle takes that photo alone; undefined: the blend), PERSPECTIVE0
+// / 1 and DISTORTED0 / 1 (0 or 1, per source camera).
 inline const char* kViewFragment = R"(
 in vec3 v_q0;
 in vec3 v_q1;
@@ -96,13 +98,13 @@ float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cos
                    sampler2DShadow zmap, float vertex_seen) {
   float a = smoothstep(0.0, 0.1, cosine) * inside(uv, size[i]);
   if (perspective) a *= step(0.0, z);
-#ifdef PER_PIXEL_VISIBILITY
+#if VISIBILITY == 2
   vec2 und = intr[i].zw + intr[i].xy * xy;
   float px_mm = (perspective ? z : 1.0) / intr[i].x;
   float tol = tol_mm + 1.5 * px_mm / max(cosine, 0.2);
   float ref = (z - tol - zrange[i].x) / (zrange[i].y - zrange[i].x);
   a *= texture(zmap, vec3(und / size[i], ref));  // nearest texel, hard compare (see render_source_depth)
-#else
+#elif VISIBILITY == 1
   a *= vertex_seen;
 #endif
   return a;
@@ -129,6 +131,14 @@ void main() {
 #else
   vec2 uv1 = intr[1].zw + intr[1].xy * xy1;
 #endif
+#if defined(ONLY_SOURCE) && ONLY_SOURCE == 0
+  // Triangles where the blend below is exactly the front photo (ViewSynthesizer sorts them out).
+  color = vec4(texture(photo0, uv0 / size[0]).rgb, 1.0);
+  weights = vec4(1.0, 0.0, 0.0, 1.0);
+#elif defined(ONLY_SOURCE) && ONLY_SOURCE == 1
+  color = vec4(texture(photo1, uv1 / size[1]).rgb, 1.0);
+  weights = vec4(0.0, 1.0, 0.0, 1.0);
+#else
   // Alpha = the photo's subject mask (ViewSynthesizer::set_photo_masks; 1 without one).
   vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);
   float a0 = c0.a * availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
@@ -146,6 +156,7 @@ void main() {
 
   color = vec4(w0 * c0.rgb + w1 * c1.rgb + unseen * fill, 1.0);
   weights = vec4(w0, w1, unseen, 1.0);
+#endif
 })";
 
 // Colour equalisation of a source photo (render/equalize.h): one triangle covering the target,

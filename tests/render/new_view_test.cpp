@@ -14,6 +14,7 @@
 #include "render/renderer.h"
 #include "render/shapes.h"
 #include "sim/head.h"
+#include "sim/rig.h"
 
 namespace orthoface::render {
 namespace {
@@ -139,8 +140,9 @@ TEST(NewView, OccludedPointsNeverTakeColourFromTheHiddenPhoto) {
       if (!clearly_hidden) continue;
       ++hidden;
       ASSERT_EQ(r.weights.at<cv::Vec3b>(row, col)[0], 0) << col << "," << row;
-      if (r.weights.at<cv::Vec3b>(row, col)[1] == 255)  // all from the side photo: green
+      if (r.weights.at<cv::Vec3b>(row, col)[1] == 255) {  // all from the side photo: green
         ASSERT_LT(r.view.image.at<cv::Vec3b>(row, col)[2], 30) << "red at " << col << "," << row;
+      }
     }
   EXPECT_GT(hidden, 300);
 }
@@ -187,8 +189,12 @@ TEST(NewView, PickSwitchesAtFortyFiveDegreesWithAFeatheredSeam) {
         if (n.z() < 0.15 || n.x() < 0.15) continue;
         const double d = n.z() - n.x();  // cos(front) - cos(side)
         const int w = r.weights.at<cv::Vec3b>(row, col)[0];
-        if (d > band + 0.01) EXPECT_EQ(w, 255) << col << "," << row;
-        if (d < -band - 0.01) EXPECT_EQ(w, 0) << col << "," << row;
+        if (d > band + 0.01) {
+          EXPECT_EQ(w, 255) << col << "," << row;
+        }
+        if (d < -band - 0.01) {
+          EXPECT_EQ(w, 0) << col << "," << row;
+        }
         blended += w > 10 && w < 245;
         ++checked;
       }
@@ -409,7 +415,7 @@ TEST(NewView, PhotoRigReflectsTheSideCameraToMinusX) {
   const capture::RigCalibration right = photo_rig(rig, false);
   EXPECT_NEAR((capture::view_direction(right.side) - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12);
   const CameraModel at_minus_x = view(rig.front, -90);
-  for (const Eigen::Vector3d p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
     const Eigen::Vector2d mirrored = capture::project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
     const Eigen::Vector2d seen = capture::project(right.side, p);
     EXPECT_NEAR(seen.x(), rig.side.width - mirrored.x(), 1e-9);  // columns mirrored
@@ -477,6 +483,40 @@ TEST(NewView, ProfileMaskKeepsThePixelsBehindTheProfile) {
   empty = side;
   empty.width = 0;
   EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
+}
+
+// Triangles sorted out as one photo alone or unoccluded are drawn by cheaper programs: the
+// image and the source weights must be the very same as with the full test everywhere, for both
+// blends, both rigs, many views, and with a subject mask on the side photo.
+TEST(NewView, SkippingTheOcclusionTestWhereItCannotFailChangesNoPixel) {
+  sim::HeadOptions ho;
+  ho.target_triangles = 4000;
+  const sim::Head head = sim::make_head(sim::head_params(3), ho);
+  for (const capture::RigCalibration& rig :
+       {capture::ideal_rig(640, 480, 1.4), sim::true_rig(sim::RigOptions{})}) {
+    const Scene s = make_scene(head.mesh, rig);
+    ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+    for (int masked = 0; masked < 2; ++masked) {
+      if (masked) {
+        cv::Mat side_mask(s.side.size(), CV_8U, cv::Scalar(255));
+        side_mask.colRange(0, side_mask.cols / 2 - 20).setTo(0);
+        synth.set_photo_masks({}, side_mask);
+      }
+      for (Blend b : {Blend::Pick, Blend::Weighted})
+        for (double yaw : {-30.0, 0.0, 20.0, 45.0, 70.0}) {
+          SynthesisOptions fast, full;
+          fast.blend = full.blend = b;
+          fast.source_weights = full.source_weights = true;
+          full.skip_unoccluded = false;
+          const CameraModel cam = view(rig.front, yaw, 10);
+          const SynthesisResult a = synth.render(cam, fast), c = synth.render(cam, full);
+          ASSERT_GT(cv::countNonZero(a.view.mask), 20000);
+          EXPECT_EQ(cv::norm(a.view.image, c.view.image, cv::NORM_INF), 0.0)
+              << "yaw " << yaw << " masked " << masked << " weighted " << int(b);
+          EXPECT_EQ(cv::norm(a.weights, c.weights, cv::NORM_INF), 0.0);
+        }
+    }
+  }
 }
 
 }  // namespace
