@@ -63,6 +63,11 @@ constexpr int kHeadlineYaw = 2;  // index of 45 deg
 const char* const kMeshNames[] = {"true mesh", "adapted", "Procrustes", "unadapted"};
 constexpr int kNumMeshes = 4;
 const char* const kBlendNames[] = {"pick", "weighted"};
+// Where an uncovered face-mask pixel lies on the true head: height bands between landmarks, on
+// the side turned away from the camera (far) or toward it (near).
+const char* const kRegionNames[] = {"far forehead", "far brow..nose tip", "far nose tip..mouth",
+                                    "far mouth..chin", "under the chin", "near side"};
+constexpr int kNumRegions = 6;
 
 model::TriMesh bare(const model::TriMesh& m) {
   model::TriMesh b;
@@ -85,6 +90,10 @@ struct Scores {
   double ssim[kNumMeshes][2][kNumYaws] = {};
   double uncovered[kNumMeshes][2][kNumYaws] = {};     // share of the face mask
   double psnr_covered[kNumMeshes][2][kNumYaws] = {};  // PSNR where the mesh covers the mask
+  // 45 deg, pick: uncovered face-mask pixels by where they lie on the true head (kRegionNames),
+  // as shares of the face mask; has_regions false when the head lacks the landmarks.
+  double uncovered_region[kNumMeshes][kNumRegions] = {};
+  bool has_regions = false;
 };
 
 struct SubjectResult {
@@ -101,6 +110,47 @@ cv::Mat abs_error_image(const cv::Mat& truth, const cv::Mat& view, const cv::Mat
   cv::Mat out(d.size(), CV_8UC3, cv::Scalar(0, 0, 0));
   d.copyTo(out, mask);
   return out;
+}
+
+// The true head drawn with its head-frame position as colour (2 mm per grey level, +-255 mm),
+// so each pixel of a view tells which surface point it shows. Unlit (render/renderer.h).
+render::RenderResult position_view(const sim::Head& head, const capture::CameraModel& camera,
+                                   render::Renderer& renderer) {
+  model::TriMesh m;
+  m.vertices = head.mesh.vertices;
+  m.triangles = head.mesh.triangles;
+  for (const auto& v : m.vertices)
+    m.colors.push_back(((v + Eigen::Vector3d::Constant(255)) / 510).cwiseMax(0).cwiseMin(1));
+  return renderer.render(m, camera);
+}
+
+bool has_region_landmarks(const sim::Head& head) {
+  for (const char* n : {"brow_left_center", "nose_tip", "mouth_left", "chin_bottom"})
+    if (!head.landmarks.count(n)) return false;
+  return true;
+}
+
+// Shares of the face mask that `uncovered` holds in each of kRegionNames; `positions` from
+// position_view, yaw > 0 turns the camera toward +x (so -x is the far side).
+std::array<double, kNumRegions> uncovered_by_region(const sim::Head& head, const cv::Mat& positions,
+                                                    const cv::Mat& uncovered, const cv::Mat& mask,
+                                                    double yaw_rad) {
+  const double bands[] = {head.landmarks.at("brow_left_center").y(),
+                          head.landmarks.at("nose_tip").y(), head.landmarks.at("mouth_left").y(),
+                          head.landmarks.at("chin_bottom").y()};
+  std::array<double, kNumRegions> share{};
+  const double n = std::max(1, cv::countNonZero(mask));
+  for (int r = 0; r < uncovered.rows; ++r)
+    for (int c = 0; c < uncovered.cols; ++c) {
+      if (!uncovered.at<uchar>(r, c)) continue;
+      const cv::Vec3b bgr = positions.at<cv::Vec3b>(r, c);
+      const double x = 2.0 * bgr[2] - 255, y = 2.0 * bgr[1] - 255;
+      int region = 0;
+      while (region < 4 && y <= bands[region]) ++region;
+      if (region < 4 && x * yaw_rad > 0) region = 5;
+      share[region] += 1 / n;
+    }
+  return share;
 }
 
 // One simulated or scanned subject through the rig, the pipeline and the four meshes.
@@ -130,6 +180,9 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
     const capture::CameraModel camera = sim::true_view_camera(options, yaw, 0);
     const cv::Mat mask = sim::has_face_landmarks(head) ? sim::face_mask(head, camera, renderer)
                                                        : truth.mask;
+    const bool regions = y == kHeadlineYaw && has_region_landmarks(head);
+    const cv::Mat positions = regions ? position_view(head, camera, renderer).image : cv::Mat();
+    out.s.has_regions = out.s.has_regions || regions;
     for (int k = 0; k < kNumMeshes; ++k) {
       synth.set_mesh(m[k]);
       for (int b = 0; b < 2; ++b) {
@@ -147,6 +200,10 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
         out.s.psnr_covered[k][b][y] =
             cv::countNonZero(covered) ? render::psnr(truth.image, view, covered) : 0.0;
         out.s.ssim[k][b][y] = render::ssim(truth.image, view, mask);
+        if (regions && b == 0) {
+          const auto share = uncovered_by_region(head, positions, mask & ~rendered.mask, mask, yaw);
+          std::copy(share.begin(), share.end(), out.s.uncovered_region[k]);
+        }
         if (y == kHeadlineYaw && b == 0 && !picture.empty()) {
           char text[96];
           std::snprintf(text, sizeof text, "%s pick: %.1f dB %.3f", kMeshNames[k],
@@ -188,6 +245,10 @@ json scores_json(const Scores& s) {
             {{"yaw_deg", kYawsDeg[y]}, {"psnr_db", s.psnr[k][b][y]}, {"ssim", s.ssim[k][b][y]},
              {"uncovered_share", s.uncovered[k][b][y]},
              {"psnr_covered_db", s.psnr_covered[k][b][y]}});
+  if (s.has_regions)
+    for (int k = 0; k < kNumMeshes; ++k)
+      for (int g = 0; g < kNumRegions; ++g)
+        j["uncovered_by_region_45_pick"][kMeshNames[k]][kRegionNames[g]] = s.uncovered_region[k][g];
   return j;
 }
 
@@ -237,6 +298,30 @@ std::string coverage_table(const std::vector<SubjectResult>& all) {
   return md;
 }
 
+// Mean over subjects at 45 deg, pick: where on the true head the uncovered face-mask pixels lie
+// (share of the face mask per region of kRegionNames).
+std::string region_table(const std::vector<SubjectResult>& all) {
+  std::string md = "| mesh |";
+  for (const char* r : kRegionNames) md += std::string(" ") + r + " |";
+  md += "\n|---|";
+  for (int g = 0; g < kNumRegions; ++g) md += "---|";
+  md += "\n";
+  for (int k = 0; k < kNumMeshes; ++k) {
+    double sum[kNumRegions] = {};
+    int n = 0;
+    for (const auto& r : all) {
+      if (!r.ok || !r.s.has_regions) continue;
+      for (int g = 0; g < kNumRegions; ++g) sum[g] += r.s.uncovered_region[k][g];
+      ++n;
+    }
+    if (n == 0) return "";
+    md += std::string("| ") + kMeshNames[k] + " |";
+    for (int g = 0; g < kNumRegions; ++g) md += cv::format(" %.2f %% |", 100 * sum[g] / n);
+    md += "\n";
+  }
+  return md;
+}
+
 // Per subject at 45 deg, pick: PSNR / SSIM of each mesh.
 std::string headline_table(const std::vector<SubjectResult>& all) {
   std::string md = "| subject |";
@@ -277,6 +362,9 @@ int run_sim(int subjects, const std::string& out_dir) {
                    ", ideal rig 640x480 (mean (min) over subjects)\n\n";
   md += summary_table(all, out["sim"]["summary"]);
   md += "\n### Where the error is, 45°, pick (mean over subjects)\n\n" + coverage_table(all);
+  md += "\nUncovered face mask by where it lies on the true head (far = the side turned away "
+        "from the camera; bands between brow, nose tip, mouth corners and chin bottom):\n\n" +
+        region_table(all);
   md += "\n### Per subject at 45°, pick (PSNR dB / SSIM)\n\n" + headline_table(all);
   int n_ok = 0;
   for (const auto& r : all) n_ok += r.ok;
