@@ -75,12 +75,19 @@ TEST(GeodesicDistances, MaxDistanceStopsAndMarksUnreached) {
   }
 }
 
-TEST(GeodesicDistances, OtherComponentIsUnreached) {
-  TriMesh m = plane_grid(2, 1.0);
+// m plus a separate right triangle with legs 1 at `corner` (a second component).
+TriMesh with_island(TriMesh m, const Eigen::Vector3d& corner) {
   const int n = int(m.vertices.size());
-  m.vertices.emplace_back(10, 10, 0), m.vertices.emplace_back(11, 10, 0);
-  m.vertices.emplace_back(10, 11, 0);
+  m.vertices.push_back(corner);
+  m.vertices.push_back(corner + Eigen::Vector3d(1, 0, 0));
+  m.vertices.push_back(corner + Eigen::Vector3d(0, 1, 0));
   m.triangles.push_back({n, n + 1, n + 2});
+  return m;
+}
+
+TEST(GeodesicDistances, OtherComponentIsUnreached) {
+  const int n = int(plane_grid(2, 1.0).vertices.size());
+  const TriMesh m = with_island(plane_grid(2, 1.0), {10, 10, 0});
   const auto d = geodesic_distances(m, {0});
   EXPECT_TRUE(std::isinf(d[n]));
   EXPECT_TRUE(std::isinf(edge_graph_distances(m, {0})[n + 1]));
@@ -150,11 +157,8 @@ TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
 
 TEST(DistanceMatrices, EdgeGraphMatrixIsDijkstraRowByRow) {
   // 642 vertices: 20 full blocks of sources and a part block; a second component stays at +inf.
-  TriMesh m = icosphere(3, 20.0);
-  const int n = int(m.vertices.size());
-  m.vertices.emplace_back(50, 50, 50), m.vertices.emplace_back(51, 50, 50);
-  m.vertices.emplace_back(50, 51, 50);
-  m.triangles.push_back({n, n + 1, n + 2});
+  const int n = int(icosphere(3, 20.0).vertices.size());
+  const TriMesh m = with_island(icosphere(3, 20.0), {50, 50, 50});
   const DistanceMatrix eg = geodesic_matrix(m, GeodesicMethod::kEdgeGraph);
   ASSERT_EQ(eg.n, n + 3);
   for (int s : {0, 1, 31, 32, 333, n - 1, n, n + 2}) {
