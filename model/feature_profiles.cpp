@@ -93,6 +93,12 @@ std::optional<int> next_extremum(const std::vector<ProfileSample>& prof,
 // the nose and lips (~0.5 % of D), below the shallowest real trough (the lips', ~1 %).
 constexpr double kMidlineProminence = 0.005;
 
+// 9.15 on the mid-plane profile between the nose tip and the upper lip, by the rule the sim's
+// truth and vision's profile detector use: going down from the tip, the first point after the
+// columella (the nose's underside, over 2 units back per unit of height) where the profile
+// turns down into the lip (slope under 1). Without a columella (a flat or coarse profile), the
+// point deepest below the chord from the tip to the upper lip. Either way the profile's depth
+// trough alone slides down the lip when the face leans back in the frame.
 void refine_subnasale(const TriMesh& mesh, const LocalFrame& fr,
                       const std::vector<ProfileSample>& prof, FeatureReport& r) {
   FoundPoint *sub = nullptr, *lip = nullptr;
@@ -103,17 +109,29 @@ void refine_subnasale(const TriMesh& mesh, const LocalFrame& fr,
   if (!sub || !lip || !r.nose_tip) return;
   const Eigen::Vector3d t3 = mesh.vertices[*r.nose_tip] - fr.origin, l3 = lip->position - fr.origin;
   const Eigen::Vector2d tip(t3.dot(fr.up), t3.dot(fr.forward)), upper(l3.dot(fr.up), l3.dot(fr.forward));
-  const Eigen::Vector2d chord = upper - tip;
-  if (chord.norm() < 1e-9) return;
-  Eigen::Vector2d inward(-chord.y(), chord.x());  // (s, f): toward smaller f
-  if (inward.y() > 0) inward = -inward;
-  inward.normalize();
+  std::vector<int> between;  // profile samples from the tip down to the lip
+  for (size_t i = 0; i < prof.size(); ++i)
+    if (prof[i].s < tip.x() && prof[i].s > upper.x()) between.push_back(int(i));
+  std::sort(between.begin(), between.end(), [&](int a, int b) { return prof[a].s > prof[b].s; });
   std::optional<int> best;
-  double depth = 0.0;
-  for (size_t i = 0; i < prof.size(); ++i) {
-    if (prof[i].s >= tip.x() || prof[i].s <= upper.x()) continue;
-    const double d = (Eigen::Vector2d(prof[i].s, prof[i].f) - tip).dot(inward);
-    if (d > depth) depth = d, best = int(i);
+  bool columella = false;
+  for (size_t k = 0; k + 1 < between.size() && !best; ++k) {
+    const ProfileSample &a = prof[between[k]], &b = prof[between[k + 1]];
+    const double slope = std::abs((a.f - b.f) / (a.s - b.s));
+    if (slope > 2) columella = true;
+    else if (columella && slope < 1) best = between[k];
+  }
+  if (!best) {
+    const Eigen::Vector2d chord = upper - tip;
+    if (chord.norm() < 1e-9) return;
+    Eigen::Vector2d inward(-chord.y(), chord.x());  // (s, f): toward smaller f
+    if (inward.y() > 0) inward = -inward;
+    inward.normalize();
+    double depth = 0.0;
+    for (int i : between) {
+      const double d = (Eigen::Vector2d(prof[i].s, prof[i].f) - tip).dot(inward);
+      if (d > depth) depth = d, best = i;
+    }
   }
   if (!best) return;
   sub->vertex = prof[*best].vertex;
@@ -133,28 +151,28 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
                         {"8.2", true, ""}, {"sulcus", false, "mentolabial sulcus (helper)"},
                         {"2.10", true, ""}};
   double s = s_nose;
+  bool chain = true;  // every step found
   for (const Step& st : steps) {
     const auto i = next_extremum(prof, st.peak ? peaks : troughs, s, true, 0.25 * D);
     if (!i) {
       r.missing.push_back(std::string(st.name) + ": no " + (st.peak ? "peak" : "trough") +
                           " on the mid-plane profile below the previous point");
-      return;
+      chain = false;
+      break;
     }
     add_point(mesh, r, st.name, prof[*i], st.helper);
     s = prof[*i].s;
   }
-  // 9.15 again, now that the upper lip (8.1) is known: the profile point deepest below the chord
-  // from the nose tip to the upper lip (the subnasale of profile analysis); the depth trough
-  // alone slides down the lip when the face leans back in the frame.
+  // 9.15 again, now that the upper lip (8.1) is known.
   refine_subnasale(mesh, fr, prof, r);
   // 2.1 bottom of the chin: the chin point furthest along (forward - up), below the chin boss.
   std::optional<int> bottom;
-  for (size_t i = 0; i < prof.size(); ++i)
+  for (size_t i = 0; chain && i < prof.size(); ++i)
     if (prof[i].s < s && prof[i].s > s - 0.3 * D &&
         (!bottom || prof[i].f - prof[i].s > prof[*bottom].f - prof[*bottom].s))
       bottom = int(i);
   if (bottom) add_point(mesh, r, "2.1", prof[*bottom]);
-  else r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
+  else if (chain) r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
   const auto nasion = next_extremum(prof, troughs, s_nose, false, 0.4 * D);
   if (nasion) add_point(mesh, r, "nasion", prof[*nasion], "deepest point between the eyes (helper)");
   else r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
