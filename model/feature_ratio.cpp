@@ -29,17 +29,16 @@ namespace {
 
 // Farthest-point sample of `count` vertex indices (deterministic: starts at vertex 0).
 std::vector<int> farthest_point_sample(const std::vector<Eigen::Vector3d>& p, int count) {
+  const Eigen::Index n = static_cast<Eigen::Index>(p.size());
+  Eigen::ArrayXd x(n), y(n), z(n);  // coordinates as arrays: one vectorised pass per sample
+  for (Eigen::Index i = 0; i < n; ++i) x[i] = p[i].x(), y[i] = p[i].y(), z[i] = p[i].z();
+  Eigen::ArrayXd d = Eigen::ArrayXd::Constant(n, std::numeric_limits<double>::infinity());
   std::vector<int> out;
-  std::vector<double> d(p.size(), std::numeric_limits<double>::infinity());
-  int next = 0;
+  Eigen::Index next = 0;
   for (int k = 0; k < count; ++k) {
-    out.push_back(next);
-    int far = next;
-    for (size_t i = 0; i < p.size(); ++i) {
-      d[i] = std::min(d[i], (p[i] - p[next]).squaredNorm());
-      if (d[i] > d[far]) far = int(i);
-    }
-    next = far;
+    out.push_back(int(next));
+    d = d.min((x - x[next]).square() + (y - y[next]).square() + (z - z[next]).square());
+    d.maxCoeff(&next);  // the first of equal maxima
   }
   return out;
 }
