@@ -70,6 +70,57 @@ EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv:
   return e;
 }
 
+namespace {
+
+// Bilinear BGR colour at (x, y), index coordinates, clamped to the image.
+cv::Vec3d colour_at(const cv::Mat& bgr, double x, double y) {
+  x = std::clamp(x, 0.0, double(bgr.cols - 1));
+  y = std::clamp(y, 0.0, double(bgr.rows - 1));
+  const int x0 = std::min(int(x), std::max(0, bgr.cols - 2));
+  const int y0 = std::min(int(y), std::max(0, bgr.rows - 2));
+  const int x1 = std::min(x0 + 1, bgr.cols - 1), y1 = std::min(y0 + 1, bgr.rows - 1);
+  const double ax = x - x0, ay = y - y0;
+  const cv::Vec3d a = bgr.at<cv::Vec3b>(y0, x0), b = bgr.at<cv::Vec3b>(y0, x1);
+  const cv::Vec3d c = bgr.at<cv::Vec3b>(y1, x0), d = bgr.at<cv::Vec3b>(y1, x1);
+  return (1 - ay) * ((1 - ax) * a + ax * b) + ay * ((1 - ax) * c + ax * d);
+}
+
+}  // namespace
+
+std::vector<cv::Point2d> snap_to_colour_step(const cv::Mat& bgr,
+                                             const std::vector<cv::Point2d>& points,
+                                             const std::vector<cv::Point2d>& directions,
+                                             double range_px, double min_step) {
+  if (bgr.empty() || bgr.type() != CV_8UC3)
+    throw std::invalid_argument("snap_to_colour_step: expected a non-empty 8-bit BGR image");
+  if (points.size() != directions.size())
+    throw std::invalid_argument("snap_to_colour_step: points and directions differ in size");
+  if (!(range_px > 0 && range_px <= 20) || !(min_step >= 0))
+    throw std::invalid_argument("snap_to_colour_step: need 0 < range_px <= 20 and min_step >= 0");
+  constexpr double kStep = 0.25;  // search step along the direction, pixels
+  const int m = int(std::ceil(range_px / kStep));
+  std::vector<cv::Point2d> out = points;
+  std::vector<double> g(2 * m + 1);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const cv::Point2d n = directions[i] * (1.0 / std::max(1e-12, cv::norm(directions[i])));
+    for (int k = -m; k <= m; ++k) {  // colour difference across one pixel centred at offset k
+      const cv::Point2d q = points[i] + (k * kStep) * n;
+      const cv::Vec3d d = colour_at(bgr, q.x + 0.5 * n.x, q.y + 0.5 * n.y) -
+                          colour_at(bgr, q.x - 0.5 * n.x, q.y - 0.5 * n.y);
+      g[k + m] = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
+    }
+    const int best = int(std::max_element(g.begin(), g.end()) - g.begin());
+    if (g[best] < min_step || g[best] <= 0) continue;
+    double sub = 0;  // parabolic peak refinement
+    if (best > 0 && best < 2 * m) {
+      const double a = g[best - 1], b = g[best], c = g[best + 1], den = a - 2 * b + c;
+      if (den < 0) sub = std::clamp(0.5 * (a - c) / den, -0.5, 0.5);
+    }
+    out[i] = points[i] + ((best - m + sub) * kStep) * n;
+  }
+  return out;
+}
+
 float sample(const cv::Mat& m, double x, double y) {
   x = std::clamp(x, 0.0, double(m.cols - 1));
   y = std::clamp(y, 0.0, double(m.rows - 1));

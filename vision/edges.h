@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace orthoface::vision {
@@ -30,6 +32,19 @@ EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options = {});
 // (origin = its top-left) and the threshold counts the pixels outside it as zero-gradient ones.
 // Throws std::invalid_argument as above or when `roi` misses the image.
 EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv::Rect& roi);
+
+// Each point moved along its direction (one per point, any length) to the strongest colour step
+// of `bgr` (8-bit BGR) within +-range_px: the step is the L1 colour difference across one pixel,
+// located to a fraction of a pixel by a parabola through its peak. A point whose strongest step
+// is below min_step (grey levels, summed over the channels) stays. Index coordinates (pixel
+// (c, r) has its centre at (c, r)). Used to place a boundary found on the smoothed foreground
+// probability on the photo's own edge (the smoothing widens the probability blob by ~1 px).
+// Throws std::invalid_argument for an empty or non-BGR image, points and directions of
+// different sizes, range_px outside (0, 20] or min_step < 0.
+std::vector<cv::Point2d> snap_to_colour_step(const cv::Mat& bgr,
+                                             const std::vector<cv::Point2d>& points,
+                                             const std::vector<cv::Point2d>& directions,
+                                             double range_px, double min_step);
 
 // Bilinear sample of a CV_32F image at (x, y) in pixel-centre coordinates (pixel (c, r) has
 // its centre at (c, r)); points outside are clamped to the border.

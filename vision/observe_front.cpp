@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "vision/contour_chain.h"
+#include "vision/edges.h"
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/haar_init.h"
@@ -16,6 +17,9 @@ namespace orthoface::vision {
 namespace {
 
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
+
+constexpr double kSnapRangePx = 2.0;  // boundary to colour step: search range, pixels
+constexpr double kSnapMinStep = 20;   // ... and the weakest step that counts (grey levels)
 
 // A profile given as the front photo: one silhouette side has a nose bump, the other not.
 void check_not_profile(const cv::Mat& mask, std::vector<std::string>& warn) {
@@ -109,9 +113,14 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   const double H = sp.head_height_px * row_scale;
   int bottom = -1;
   if (rows.count("chin_bottom")) bottom = int(rows["chin_bottom"] + 0.08 * H);
-  const FrontBoundary fb = front_boundary(prob, mask, bottom);
+  FrontBoundary fb = front_boundary(prob, mask, bottom);
   for (const auto& w : fb.warnings) warn.push_back(w);
   if (fb.left.empty() || fb.right.empty()) return;
+  // The probability's smoothing widens the blob by about a pixel: each row's boundary goes to
+  // the photo's own colour step nearby (the rows stay: the search runs along them).
+  for (auto* side : {&fb.left, &fb.right})
+    *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}),
+                                kSnapRangePx, kSnapMinStep);
   FrontFeatures ff = front_features(front, fb, rows, H);
   if (o.use_haar) haar_assist(front, o, ff, warn);
   for (const auto& w : ff.warnings) warn.push_back(w);

@@ -62,6 +62,29 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
   return resample(bspline_samples(fit.spline, std::max(50, int(len))), 1.0);
 }
 
+// The probability's smoothing widens the blob by about a pixel: each curve point goes along the
+// curve's normal to the photo's own colour step nearby, and a landmark on the curve moves with
+// its nearest curve point (landmarks are found on the smooth fit, whose extrema the per-point
+// steps would only add noise to).
+void on_colour_step(const cv::Mat& bgr, SideProfile& sp) {
+  constexpr double kRangePx = 2.0, kMinStep = 20;  // search range; weakest step (grey levels)
+  const std::vector<cv::Point2d>& c = sp.curve;
+  if (c.size() < 3) return;
+  std::vector<cv::Point2d> normals(c.size());
+  for (size_t i = 0; i < c.size(); ++i) {
+    const cv::Point2d t = c[std::min(i + 2, c.size() - 1)] - c[i < 2 ? 0 : i - 2];
+    normals[i] = cv::norm(t) > 1e-9 ? cv::Point2d(-t.y, t.x) : cv::Point2d(1.0, 0.0);
+  }
+  const std::vector<cv::Point2d> snapped = snap_to_colour_step(bgr, c, normals, kRangePx, kMinStep);
+  for (auto& [name, f] : sp.features) {
+    size_t best = 0;
+    for (size_t i = 1; i < c.size(); ++i)
+      if (cv::norm(c[i] - f.px) < cv::norm(c[best] - f.px)) best = i;
+    if (cv::norm(c[best] - f.px) <= 1.5) f.px += snapped[best] - c[best];
+  }
+  sp.curve = snapped;
+}
+
 }  // namespace
 
 bool profile_faces_left(const cv::Mat& mask, double* confidence) {
@@ -200,7 +223,8 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
   double support = 0;
   sp.curve = fitted_curve(chain, prob, o, &support);
   sp.confidence = support;
-  find_profile_landmarks(bgr, sp);
+  find_profile_landmarks(bgr, sp);  // on the smooth fitted curve: extrema and concavities
+  on_colour_step(bgr, sp);
   if (e.top == 0) sp.warnings.push_back("side view: head touches the top border (crown cut off)");
   if (e.left[std::clamp(int(e.top + 0.6 * sp.head_height_px), 0, mask.rows - 1)] == 0)
     sp.warnings.push_back("side view: face touches the image border (profile cut off)");
