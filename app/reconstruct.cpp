@@ -25,7 +25,7 @@ Command reconstruct_command() {
            {"out", true, "DIR  output folder (created; files of the same name are replaced)"},
            {"rig", true, "rig.yaml  calibrated or simulated rig (true scale)"},
            {"side-camera", true, "left|right  where the side camera stood (default: detect)"},
-           {"method", true, "nnwa|interpolate  how free vertices move (default nnwa)"},
+           {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"}},
           0};
 }
@@ -42,7 +42,7 @@ ReconstructOptions options_from(const Args& a) {
   o.observe.side_camera = side == "left"    ? vision::SideCamera::Left
                           : side == "right" ? vision::SideCamera::Right
                                             : vision::SideCamera::Auto;
-  const std::string method = a.get("method", "nnwa");
+  const std::string method = a.get("method", "interpolate");
   if (method != "nnwa" && method != "interpolate")
     throw std::invalid_argument("--method: expected nnwa or interpolate, got '" + method + "'");
   o.adapt.method = method == "nnwa" ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;

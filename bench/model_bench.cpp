@@ -248,10 +248,11 @@ struct MethodErrors {
 
 MethodErrors method_errors(const model::BaseMesh& base, const Subject& s,
                            const model::StereoData& data) {
-  model::AdaptOptions interp;
+  model::AdaptOptions nnwa, interp;
+  nnwa.method = model::AdaptMethod::Nnwa;
   interp.method = model::AdaptMethod::Interpolate;
   MethodErrors e;
-  e.nnwa = rel(model::adapt(base, data, {}).mesh, s);
+  e.nnwa = rel(model::adapt(base, data, nnwa).mesh, s);
   e.interpolate = rel(model::adapt(base, data, interp).mesh, s);
   e.procrustes = rel(model::procrustes_fit(base, data), s);
   e.unadapted = rel(base.mesh, s);
@@ -329,6 +330,7 @@ int run_accuracy(int subjects, const std::string& out_dir) {
   md += "\n### NNWA vs k (true landmarks, mean relative error %)\n\n| k | NNWA |\n|---|---|\n";
   for (int k = 1; k <= 10; ++k) {
     model::AdaptOptions o;
+    o.method = model::AdaptMethod::Nnwa;
     o.k = k;
     const double e = mean_nnwa(base, all, o).first;
     ks.push_back(k), k_err.push_back(e);
@@ -339,6 +341,7 @@ int run_accuracy(int subjects, const std::string& out_dir) {
         "always used)\n\n| features | 3D points | NNWA % |\n|---|---|---|\n";
   for (size_t drop = 0; drop <= kDropOrder.size(); drop += 2) {
     model::AdaptOptions o;
+    o.method = model::AdaptMethod::Nnwa;
     o.ignored_features.assign(kDropOrder.begin(), kDropOrder.begin() + drop);
     const auto [e, landmarks] = mean_nnwa(base, all, o);
     const int features = static_cast<int>(kDropOrder.size() - drop);

@@ -41,7 +41,8 @@ std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& al
                                           const LandmarkTargets& targets, int k);
 
 // Aligned positions with the targets set and the others moved by seed 004 eq. 2 along their
-// slice; slices without boundary data fall back to NNWA.
+// slice, between its centre-line vertex and its two extremes; an extreme without silhouette
+// data is placed by NNWA first. Slices without a profile point fall back to NNWA.
 std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
                                                    const std::vector<Eigen::Vector3d>& aligned,
                                                    const LandmarkTargets& targets, int k);

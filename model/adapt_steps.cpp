@@ -257,7 +257,13 @@ std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
   for (size_t s = 0; s < base.slices.size(); ++s) {
     const std::vector<int>& ids = base.slices[s];
     const int mid = static_cast<int>(ids.size()) / 2;
-    if (!fixed.count(ids.front()) || !fixed.count(ids.back()) || !fixed.count(ids[mid])) continue;
+    if (!fixed.count(ids[mid])) continue;  // no profile point: NNWA
+    // An extreme without silhouette data (ear heights, below the jaw) is the boundary vertex
+    // NNWA placed: the profile point still stretches the slice between it and the centre line,
+    // which NNWA alone does not do when named features lie nearer than the centre line (the
+    // depth between profile and silhouette is what a turned view shows as its outline).
+    for (int end : {ids.front(), ids.back()})
+      if (!fixed.count(end)) fixed[end] = out[end];
     for (int i = 1; i + 1 < static_cast<int>(ids.size()); ++i) {
       if (i == mid || fixed.count(ids[i])) continue;
       const int bl = i < mid ? ids.front() : ids[mid], br = i < mid ? ids[mid] : ids.back();
