@@ -129,7 +129,7 @@ FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W, 
   }
   const double h = std::max(3.0, 0.05 * W);
   const cv::Rect roi = clip(bgr, at.x - 2.5 * h, at.y - h, at.x - 1.0 * h, at.y + h) |
-                       clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h) & face;
+                       (clip(bgr, at.x + 1.0 * h, at.y - h, at.x + 2.5 * h, at.y + h) & face);
   if (roi.area() > 0) {
     const cv::Scalar m = cv::mean(c.lab(roi));
     c.skin = cv::Vec3f(float(m[0]), float(m[1]), float(m[2]));
@@ -195,7 +195,7 @@ EyeFound find_side_eye(const FilterContext& c, double xp, double row, double H, 
     for (int x = 0; x < win.width; ++x)
       if (labels.at<int>(r, x) == best && g.at<uchar>(r, x) < lo) lo = g.at<uchar>(r, x), at = {x, r};
   e.ok = true;
-  e.centre = {win.x + at.x, cy};
+  e.centre = {double(win.x + at.x), cy};
   e.corner_image_left = {front, cy};
   e.corner_image_right = {back, cy};
   e.confidence = std::clamp(double(stats.at<int>(best, cv::CC_STAT_AREA)) / (0.002 * H * H), 0.2, 0.8);

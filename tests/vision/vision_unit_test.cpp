@@ -339,5 +339,7 @@ TEST(ObservationIo, RoundTripAndMalformed) {
   EXPECT_THROW(ov::observation_from_json(j), std::invalid_argument);
   EXPECT_THROW(ov::read_observation((dir / "missing.json").string()), std::runtime_error);
   const std::string bad = orthoface::testing::shared_data("bad_inputs/json_malformed.json");
-  if (!bad.empty()) EXPECT_THROW(ov::read_observation(bad), std::runtime_error);
+  if (!bad.empty()) {
+    EXPECT_THROW(ov::read_observation(bad), std::runtime_error);
+  }
 }
