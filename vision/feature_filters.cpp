@@ -1,6 +1,7 @@
 #include "vision/feature_filters.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 
 #include <opencv2/imgproc.hpp>
@@ -264,21 +265,35 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
   const double d0 = x0 - pos[0], d1 = pos[1] - x0;
   const bool found = val[0] < c.skin[0] * 0.6 && val[1] < c.skin[0] * 0.6 && d0 > 0.01 * W && d1 > 0.01 * W;
   const double d = found ? 0.5 * (d0 + d1) : 0.06 * W;
-  const double row = found ? 0.5 * (py[0] + py[1]) - 0.25 * (r_sub - r_tip) : r_tip + 0.68 * (r_sub - r_tip);
-  // Wing edge: strongest horizontal grey change outward of the nostril along the alar row,
-  // 0.4 d to 1.5 d beyond that side's own nostril (a turned head shifts the two nostrils unevenly
-  // from x0, and the fixed range from x0 then misses the far wing).
-  double ax[2];
-  for (int side = 0; side < 2; ++side) {
+  const double row_rule =
+      found ? 0.5 * (py[0] + py[1]) - 0.25 * (r_sub - r_tip) : r_tip + 0.68 * (r_sub - r_tip);
+  // Wing edge: strongest horizontal grey change outward of the nostril along a row, 0.4 d to
+  // 1.5 d beyond that side's own nostril (a turned head shifts the two nostrils unevenly from
+  // x0, and a fixed range from x0 then misses the far wing); nullopt without a clear edge.
+  auto wing_edge = [&](int side, double y_row) -> std::optional<double> {
     const double s = side == 0 ? -1 : 1;
     const double base = found ? pos[side] : x0 + s * d;
-    ax[side] = base + s * 0.9 * d;
-    const int y = std::clamp(int(std::lround(row)), c.roi.y + 1, c.roi.br().y - 2);
+    const int y = std::clamp(int(std::lround(y_row)), c.roi.y + 1, c.roi.br().y - 2);
+    std::optional<double> at;
     double best = 0;
     for (double t = 0.4 * d; t <= 1.5 * d; t += 0.5) {
       const int x = std::clamp(int(std::lround(base + s * t)), c.roi.x + 1, c.roi.br().x - 2);
       const double gx = std::abs(double(c.grey.at<uchar>(y, x + 1)) - c.grey.at<uchar>(y, x - 1));
-      if (gx > best && gx > 6) best = gx, ax[side] = base + s * t;
+      if (gx > best && gx > 6) best = gx, at = base + s * t;
+    }
+    return at;
+  };
+  // The alare is the wing's most lateral point: of the rows from the nostrils up to the row
+  // rule above, the one where the two wing edges lie farthest apart.
+  double row = row_rule, ax[2] = {0, 0};
+  for (int side = 0; side < 2; ++side)
+    ax[side] = wing_edge(side, row).value_or((found ? pos[side] : x0 + (side ? d : -d)) +
+                                             (side ? 0.9 : -0.9) * d);
+  if (found) {
+    double widest = -1;
+    for (double y = 0.5 * (py[0] + py[1]); y >= row_rule - 0.5; y -= 1.0) {
+      const auto l = wing_edge(0, y), r = wing_edge(1, y);
+      if (l && r && *r - *l > widest) widest = *r - *l, row = y, ax[0] = *l, ax[1] = *r;
     }
   }
   n.ok = true;  // without nostrils the wing edges (or the position model) still place them
