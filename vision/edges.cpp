@@ -100,13 +100,17 @@ std::vector<cv::Point2d> snap_to_colour_step(const cv::Mat& bgr,
   constexpr double kStep = 0.25;  // search step along the direction, pixels
   const int m = int(std::ceil(range_px / kStep));
   std::vector<cv::Point2d> out = points;
+  constexpr int kHalf = 2;  // half a pixel in search steps
   std::vector<double> g(2 * m + 1);
+  std::vector<cv::Vec3d> c(2 * (m + kHalf) + 1);  // colours at offsets -m-2 .. m+2 steps
   for (size_t i = 0; i < points.size(); ++i) {
     const cv::Point2d n = directions[i] * (1.0 / std::max(1e-12, cv::norm(directions[i])));
+    for (int j = -m - kHalf; j <= m + kHalf; ++j) {
+      const cv::Point2d q = points[i] + (j * kStep) * n;
+      c[j + m + kHalf] = colour_at(bgr, q.x, q.y);
+    }
     for (int k = -m; k <= m; ++k) {  // colour difference across one pixel centred at offset k
-      const cv::Point2d q = points[i] + (k * kStep) * n;
-      const cv::Vec3d d = colour_at(bgr, q.x + 0.5 * n.x, q.y + 0.5 * n.y) -
-                          colour_at(bgr, q.x - 0.5 * n.x, q.y - 0.5 * n.y);
+      const cv::Vec3d d = c[k + m + 2 * kHalf] - c[k + m];
       g[k + m] = std::abs(d[0]) + std::abs(d[1]) + std::abs(d[2]);
     }
     const int best = int(std::max_element(g.begin(), g.end()) - g.begin());
