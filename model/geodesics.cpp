@@ -1,11 +1,9 @@
 #include "model/geodesics.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <tuple>
 
 #include "model/parallel_rows.h"
@@ -54,7 +52,6 @@ inline double planar_update(double da, double db, double ab, double ac, double b
   if (cross < 0.0 || cross > ab * (cy - sy)) return edge_bound;
   return std::min(edge_bound, std::sqrt((cx - sx) * (cx - sx) + (cy - sy) * (cy - sy)));
 }
-
 
 }  // namespace
 
@@ -207,7 +204,8 @@ std::vector<std::vector<int>> vertex_neighbors(const TriMesh& mesh) {
 namespace {
 
 // Edge graph in compressed rows: the arcs out of v are arcs[start[v] .. start[v+1]), each with
-// its Euclidean length in T; shortest / longest positive edge for the bucket queue.
+// its Euclidean length in T (double for single-source Dijkstra, float for the matrix's vector
+// sweeps); shortest / longest positive edge for Dijkstra's bucket queue.
 template <class T>
 struct EdgeGraph {
   struct Arc {
@@ -236,41 +234,34 @@ EdgeGraph<T> edge_graph(const TriMesh& mesh) {
   return g;
 }
 
-// Buckets as wide as the shortest edge make Dial's queue exact. A mesh whose shortest edge is
-// below 2^-16 of its longest gets wider buckets; then a vertex can be improved after its scan and
-// is scanned again (the stale-entry test below), which keeps the result exact.
-template <class T>
-BucketQueue<int> dijkstra_queue(const EdgeGraph<T>& g) {
-  if (g.longest == 0.0) return BucketQueue<int>(1.0, 0.0);
-  const double width = std::max(g.shortest, g.longest / 65536.0);
-  return BucketQueue<int>(width, g.longest + width);
-}
-
-// Dijkstra over the edge graph with a bucket queue (label-correcting: an entry whose key is above
-// the vertex's current distance is stale and skipped, any other is scanned). `dist` (size n) and `queue` are the caller's scratch so
-// matrix rows reuse them. T is float for matrix rows, double for single-source calls.
-template <class T>
-void dijkstra(const EdgeGraph<T>& g, const std::vector<int>& sources, double max_distance,
-              std::vector<T>& dist, BucketQueue<int>& queue) {
-  std::fill(dist.begin(), dist.end(), std::numeric_limits<T>::infinity());
-  queue.clear();
+// Single-source Dijkstra over the edge graph with Dial's bucket queue (label-correcting: an
+// entry whose key is above the vertex's current distance is stale and skipped). Buckets as wide
+// as the shortest edge make the queue exact; a mesh whose shortest edge is below 2^-16 of its
+// longest gets wider buckets, and then a vertex improved after its scan is scanned again, which
+// keeps the result exact.
+std::vector<double> dijkstra(const EdgeGraph<double>& g, const std::vector<int>& sources,
+                             double max_distance) {
+  std::vector<double> dist(g.start.size() - 1, kInf);
+  const double width = g.longest > 0.0 ? std::max(g.shortest, g.longest / 65536.0) : 1.0;
+  BucketQueue<int> queue(width, g.longest + width);
   for (int s : sources) {
     dist[s] = 0;
     queue.push(0.0, s);
   }
   while (!queue.empty()) {
     const auto [key, v] = queue.pop();
-    const T dv = dist[v];
+    const double dv = dist[v];
     if (key > float(dv)) continue;
     for (int k = g.start[v]; k < g.start[v + 1]; ++k) {
       const int u = g.arcs[k].to;
-      const T d = dv + g.arcs[k].length;
+      const double d = dv + g.arcs[k].length;
       if (d < dist[u] && d <= max_distance) {
         dist[u] = d;
         queue.push(d, u);
       }
     }
   }
+  return dist;
 }
 
 void check_matrix_size(const TriMesh& mesh, int max_vertices, const char* what) {
@@ -375,11 +366,7 @@ void symmetrize_min(DistanceMatrix& m) {
 std::vector<double> edge_graph_distances(const TriMesh& mesh, const std::vector<int>& sources,
                                          const GeodesicOptions& options) {
   check_sources(mesh, sources, "edge_graph_distances", options);
-  const auto g = edge_graph<double>(mesh);
-  auto queue = dijkstra_queue(g);
-  std::vector<double> dist(mesh.vertices.size());
-  dijkstra(g, sources, options.max_distance, dist, queue);
-  return dist;
+  return dijkstra(edge_graph<double>(mesh), sources, options.max_distance);
 }
 
 DistanceMatrix geodesic_matrix(const TriMesh& mesh, GeodesicMethod method, int max_vertices) {
