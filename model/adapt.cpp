@@ -51,8 +51,6 @@ void AdaptOptions::check() const {
     throw std::invalid_argument(
         "AdaptOptions: min_outlier_shift_mm must be in (0, max_feature_shift_mm]");
   if (!(outlier_factor > 0)) throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
-  if (!(ray_min_facing >= 0))
-    throw std::invalid_argument("AdaptOptions: ray_min_facing must be >= 0");
   if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0)
     throw std::invalid_argument("AdaptOptions: blend_rings, blend_iterations and "
                                 "max_fold_passes must be >= 0");

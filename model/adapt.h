@@ -33,17 +33,8 @@ struct AdaptOptions {
   double outlier_factor = 3;         // ... and so are those farther than this times the
   double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
-  double ray_min_facing = 2;         // a front-only feature takes the depth of the surface shaped
-                                     // by the 3D points along its front viewing ray where that
-                                     // surface faces the front camera (normal z) at least this
-                                     // much; elsewhere (grazing: nose wings, cheeks) its vertex's
-                                     // depth moved by NNWA; > 1 (the default): always the
-                                     // latter. 0.5 won one more sim subject for NNWA (18 vs 17
-                                     // of 20 below Procrustes) but cost the Lee Perry-Smith scan
-                                     // 0.25 points of relative error and 1.4 dB at 45 degrees
   void check() const;                // throws std::invalid_argument (k < 1, negative counts,
-                                     // outlier limits not 0 < min <= max, factor <= 0,
-                                     // ray_min_facing < 0)
+                                     // outlier limits not 0 < min <= max, factor <= 0)
 };
 
 // Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made

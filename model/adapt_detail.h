@@ -1,7 +1,5 @@
 #pragma once
 
-#include <array>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -13,14 +11,6 @@
 namespace orthoface::model::detail {
 
 std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::Vector3d>& v);
-
-// Seed 002 §3.3.2 (ray tracing of a landmark onto the model), orthographic front view: the
-// largest z where the ray along z through (x, y) meets a triangle of `triangles` over `vertices`
-// whose unit normal has |z| >= min_normal_z; nullopt when it meets none. Throws
-// std::invalid_argument for a vertex index out of range.
-std::optional<double> front_depth_at(const std::vector<std::array<int, 3>>& triangles,
-                                     const std::vector<Eigen::Vector3d>& vertices, double x,
-                                     double y, double min_normal_z);
 
 struct AlignedTargets {
   Alignment alignment;

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <optional>
 #include <stdexcept>
 #include <queue>
 #include <set>
@@ -114,22 +113,11 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
   for (const auto& [v, p] : no_depth) query.push_back(aligned[v]);
   const int k = std::min<int>(options.k, static_cast<int>(lm.size()));
   const auto d = nnwa_displacements(query, lm, disp, k);
-  // Seed 002 §3.3.2 traces the landmark's ray onto the model and keeps the vertex's depth; the
-  // vertex is up to 3 mm from the landmark on the coarse base, and on a sloped surface the
-  // surface's own depth at the observed (x, y) is the better guess: the ray meets the base as
-  // shaped by the 3D points. Where that surface is grazed (nose wings, cheeks) a small x error
-  // moves the hit far in depth, so the vertex's depth moved by NNWA stays.
-  const std::vector<Eigen::Vector3d> shaped = options.ray_min_facing <= 1
-                                                  ? detail::move_by_nnwa(aligned, out, k)
-                                                  : std::vector<Eigen::Vector3d>{};
   for (size_t i = 0; i < no_depth.size(); ++i) {
     const int v = no_depth[i].first;
     const Eigen::Vector3d& p = no_depth[i].second;
-    std::optional<double> z;
-    if (!shaped.empty())
-      z = detail::front_depth_at(base.mesh.triangles, shaped, p.x(), p.y(), options.ray_min_facing);
     out.vertices.push_back(v);
-    out.positions.push_back({p.x(), p.y(), z ? *z : aligned[v].z() + d[i].z()});
+    out.positions.push_back({p.x(), p.y(), aligned[v].z() + d[i].z()});
     out.names.push_back(names[v]);
   }
   return out;
@@ -151,28 +139,6 @@ int count_folds(const TriMesh& mesh, const TriMesh& reference) {
 }
 
 namespace detail {
-
-std::optional<double> front_depth_at(const std::vector<std::array<int, 3>>& triangles,
-                                     const std::vector<Eigen::Vector3d>& vertices, double x,
-                                     double y, double min_normal_z) {
-  std::optional<double> best;
-  const int n = static_cast<int>(vertices.size());
-  for (const auto& f : triangles) {
-    if (std::min({f[0], f[1], f[2]}) < 0 || std::max({f[0], f[1], f[2]}) >= n)
-      throw std::invalid_argument("front_depth_at: vertex index out of range");
-    const Eigen::Vector3d &a = vertices[f[0]], &b = vertices[f[1]], &c = vertices[f[2]];
-    const Eigen::Vector3d e1 = b - a, e2 = c - a;
-    const double det = e1.x() * e2.y() - e2.x() * e1.y();  // twice the area seen from the front
-    if (std::abs(det) < 1e-12) continue;
-    const double u = ((x - a.x()) * e2.y() - e2.x() * (y - a.y())) / det;
-    const double w = (e1.x() * (y - a.y()) - (x - a.x()) * e1.y()) / det;
-    if (u < 0 || w < 0 || u + w > 1) continue;
-    if (std::abs(e1.cross(e2).normalized().z()) < min_normal_z) continue;
-    const double z = a.z() + u * e1.z() + w * e2.z();
-    if (!best || z > *best) best = z;
-  }
-  return best;
-}
 
 std::vector<Eigen::Vector3d> apply(const Alignment& a, const std::vector<Eigen::Vector3d>& v) {
   std::vector<Eigen::Vector3d> out;

@@ -38,23 +38,6 @@ TEST(Nnwa, BadKThrows) {
   EXPECT_TRUE(nnwa_displacements({}, lm, lm, 2).empty());  // no query points: nothing to do
 }
 
-TEST(FrontDepthAt, FrontMostHitOnFacingTriangles) {
-  const std::vector<Eigen::Vector3d> v = {{0, 0, 5},  {10, 0, 5},  {0, 10, 5},   // flat, z = 5
-                                          {0, 0, 0},  {10, 0, 10}, {0, 10, 0}};  // z = x
-  const std::vector<std::array<int, 3>> flat = {{0, 1, 2}}, both = {{0, 1, 2}, {3, 4, 5}};
-  EXPECT_DOUBLE_EQ(*detail::front_depth_at(flat, v, 2, 3, 0.5), 5.0);
-  EXPECT_FALSE(detail::front_depth_at(flat, v, 8, 8, 0.5));     // outside the triangle
-  EXPECT_NEAR(*detail::front_depth_at({{3, 4, 5}}, v, 2, 3, 0.5), 2.0, 1e-12);
-  EXPECT_NEAR(*detail::front_depth_at(both, v, 7, 1, 0.5), 7.0, 1e-12);  // the front one
-  // The sloped triangle's normal has z = 1/sqrt(2): grazing for a stricter limit.
-  EXPECT_DOUBLE_EQ(*detail::front_depth_at(both, v, 7, 1, 0.8), 5.0);
-  EXPECT_FALSE(detail::front_depth_at({{3, 4, 5}}, v, 2, 3, 0.8));
-  EXPECT_FALSE(detail::front_depth_at({}, v, 2, 3, 0.5));
-  EXPECT_FALSE(detail::front_depth_at({{0, 0, 1}}, v, 0, 0, 0.0));  // degenerate triangle
-  EXPECT_THROW(detail::front_depth_at({{0, 1, 6}}, v, 2, 3, 0.5), std::invalid_argument);
-  EXPECT_THROW(detail::front_depth_at({{-1, 1, 2}}, v, 2, 3, 0.5), std::invalid_argument);
-}
-
 TEST(Interpolate, Seed004Eq2KnownAnswer) {
   // Base boundary at -60 and 0, vertex at -45; real boundary at -70 and 2.
   EXPECT_DOUBLE_EQ(interpolate_between(-70, 2, -60, 0, -45), -70 + 72 * 0.25);
@@ -235,9 +218,6 @@ TEST(Adapt, BadKThrows) {
   EXPECT_THROW(adapt(base, d, o), std::invalid_argument);
   o.k = -3;
   EXPECT_THROW(procrustes_fit(base, d, o), std::invalid_argument);
-  o.k = 5;
-  o.ray_min_facing = -0.1;
-  EXPECT_THROW(adapt(base, d, o), std::invalid_argument);
 }
 
 TEST(Procrustes, RecoversKnownSimilarity) {
