@@ -259,13 +259,9 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
     const auto through = plane_profile(mesh, fr, q.dot(fr.left), o.plane_band * D);
     const auto crest = next_extremum(through, profile_extrema(through, true, 0.003 * D),
                                      q.dot(fr.up), false, 0.2 * D);
-    if (crest && through[*crest].s < s_brow + 0.03 * D) {  // not the forehead over the brow
-      const FoundPoint pupil = r.points.back();
-      r.points.pop_back();
+    if (crest && through[*crest].s < s_brow + 0.03 * D)  // not the forehead over the brow
       for (auto& p : r.points)
         if (p.name == brow) p.vertex = through[*crest].vertex, p.position = through[*crest].point;
-      r.points.push_back(pupil);
-    }
   } else if (e) {
     add_point(mesh, r, eye, prof[*e]);
   } else {
