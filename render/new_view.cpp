@@ -71,7 +71,6 @@ void upload_bgr(const cv::Mat& bgr, const cv::Mat& mask, GLuint& tex, cv::Size& 
   allocated = image.size();
 }
 
-// The synthesis fragment shader specialised for the rig's source cameras and the options.
 // Occlusion test of a view program (the VISIBILITY define of kViewFragment).
 enum class Visibility { kNone = 0, kPerVertex = 1, kPerPixel = 2 };
 
@@ -79,6 +78,14 @@ enum class Visibility { kNone = 0, kPerVertex = 1, kPerPixel = 2 };
 // element-buffer order.
 enum class TriangleClass { kFrontOnly = 0, kSideOnly = 1, kUnoccluded = 2, kTested = 3 };
 
+// Width of the pick blend's feather in cos0 - cos1, which changes by sqrt(2) per radian of
+// normal rotation near the 45-degree switch; a tiny band stands for feather 0 (a hard switch) as
+// smoothstep needs edge0 < edge1.
+double feather_band(const SynthesisOptions& o) {
+  return std::max(std::sqrt(2.0) * o.feather_deg * M_PI / 180, 1e-6);
+}
+
+// The synthesis fragment shader specialised for the rig's source cameras and the options.
 std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility,
                           bool weighted, int only_source) {
   std::string defines = "#version 330 core\n";
@@ -317,6 +324,9 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
     if (!src[i].mask.empty()) cv::erode(src[i].mask, mask[i], cv::Mat());
     maskable[i] = src[i].photo_size == src[i].raw.size();  // texture texels = photo pixels
   }
+  std::vector<std::array<double, 2>> facing(vertices.size());  // per vertex, per source
+  for (size_t v = 0; v < vertices.size(); ++v)
+    for (int i = 0; i < 2; ++i) facing[v][i] = detail::facing(cam(i), vertices[v], normals[v]);
   struct SourceTest {
     bool unoccluded = true;  // the occlusion test passes wherever the source's share can be > 0
     bool whole = false;      // and its share is exactly 1 everywhere (facing, frame, mask)
@@ -328,7 +338,7 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
     Eigen::Vector2d uv[3];
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d& p = vertices[t[k]];
-      cosine[k] = detail::facing(c, p, normals[t[k]]);
+      cosine[k] = facing[t[k]][i];
       z[k] = capture::depth(c, p);
       uv[k] = detail::undistorted_pixel(c, p);
     }
@@ -367,15 +377,14 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
   };
   // The blend's share of the front photo pf is 1 (0) where cos0 - cos1 >= feather (<= -), and
   // these cosines are interpolated linearly: the corners decide for the whole triangle.
-  const double feather = std::max(std::sqrt(2.0) * o.feather_deg * M_PI / 180, 1e-6);
+  const double feather = feather_band(o);
   const bool weighted = o.blend == Blend::Weighted;
   std::array<std::vector<std::array<int, 3>>, 4> by_class;
   for (const auto& t : triangles) {
     const SourceTest s0 = test(t, 0), s1 = test(t, 1);
     double lead0 = INFINITY, lead1 = INFINITY, cos0 = -INFINITY, cos1 = -INFINITY;
     for (int k = 0; k < 3; ++k) {
-      const double c0 = detail::facing(cam(0), vertices[t[k]], normals[t[k]]);
-      const double c1 = detail::facing(cam(1), vertices[t[k]], normals[t[k]]);
+      const double c0 = facing[t[k]][0], c1 = facing[t[k]][1];
       lead0 = std::min(lead0, c0 - c1), lead1 = std::min(lead1, c1 - c0);
       cos0 = std::max(cos0, c0), cos1 = std::max(cos1, c1);
     }
@@ -588,15 +597,13 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   if (nf[1] > nf[0]) {
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
     const bool weighted = o.blend == Blend::Weighted;
-    // cos0 - cos1 changes by sqrt(2) per radian of normal rotation near the 45-degree switch;
-    // a tiny band stands for feather 0 (a hard switch) as smoothstep needs edge0 < edge1.
-    const double feather = std::sqrt(2.0) * o.feather_deg * M_PI / 180;
+    const double feather = feather_band(o);
     auto draw = [&](Visibility visibility, int only_source, GLsizei first, GLsizei count) {
       if (count == 0) return;
       const GLuint p = m.view_program(visibility, weighted, only_source);
       glUseProgram(p);
       glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
-      glUniform1f(glGetUniformLocation(p, "feather"), float(std::max(feather, 1e-6)));
+      glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
       glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
       glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
@@ -633,6 +640,10 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glBindVertexArray(0);
   }
   SynthesisResult r;
+  if (o.per_pixel_visibility && o.skip_unoccluded && nf[1] > nf[0]) {  // drawn, sorted
+    const auto& n = m.class_count;
+    r.triangles_one_photo = int(n[0] + n[1]) / 3, r.triangles_untested = int(n[2]) / 3;
+  }
   r.view = gl::read_result(camera.width, camera.height, nf,
                            camera.projection == capture::Projection::Perspective, o.depth);
   if (o.source_weights) {

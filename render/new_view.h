@@ -23,7 +23,8 @@ struct SynthesisOptions {
   double feather_deg = 6;              // Pick: blend over +-this normal angle around the switch
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
-  bool skip_unoccluded = true;         // per pixel: no test on triangles no source occludes
+  bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion
+                                       // is certain drawn by cheaper programs (the same pixels)
   double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
   cv::Scalar background{0, 0, 0};      // BGR 0..255
@@ -36,6 +37,9 @@ struct SynthesisOptions {
 struct SynthesisResult {
   RenderResult view;  // image, z_cam depth (mm), mask of the new view
   cv::Mat weights;    // if asked: CV_8UC3 (front, side, unseen) shares x255 per pixel
+  // Per-pixel visibility with skip_unoccluded: triangles drawn with one photo's fetch alone, and
+  // without the occlusion test; the rest had the full test. 0 and 0 otherwise.
+  int triangles_one_photo = 0, triangles_untested = 0;
 };
 
 // Colour equalisation (Lab mean / std of each photo over the surface both cameras see well,

@@ -511,6 +511,11 @@ TEST(NewView, SkippingTheOcclusionTestWhereItCannotFailChangesNoPixel) {
           const CameraModel cam = view(rig.front, yaw, 10);
           const SynthesisResult a = synth.render(cam, fast), c = synth.render(cam, full);
           ASSERT_GT(cv::countNonZero(a.view.mask), 20000);
+          // Most triangles take a cheaper program; without sorting, none does.
+          EXPECT_GT(a.triangles_one_photo + a.triangles_untested,
+                    int(head.mesh.triangles.size()) / 2);
+          EXPECT_GT(a.triangles_one_photo, 0);
+          EXPECT_EQ(c.triangles_one_photo + c.triangles_untested, 0);
           EXPECT_EQ(cv::norm(a.view.image, c.view.image, cv::NORM_INF), 0.0)
               << "yaw " << yaw << " masked " << masked << " weighted " << int(b);
           EXPECT_EQ(cv::norm(a.weights, c.weights, cv::NORM_INF), 0.0);
