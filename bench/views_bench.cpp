@@ -10,7 +10,7 @@
 //                                        SSIM against Img_43 after aligning on the eyes; one
 //                                        picture per person in OUTDIR (keep it outside the repo)
 //   --no-photo-masks (last argument)     texture without the side photo's profile mask
-// Every subject goes through the demo's pipeline (app::reconstruct: vision -> stereo -> NNWA
+// Every subject goes through the demo's pipeline (app::reconstruct: vision -> stereo -> eq. 2
 // with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
 // bound: only texturing error left), the adapted mesh, the Procrustes fit of the base mesh to
 // the same 3D targets and the unadapted base mesh (model/adapt.h), each with `pick` and

@@ -41,10 +41,14 @@ EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv:
 // probability on the photo's own edge (the smoothing widens the probability blob by ~1 px).
 // Throws std::invalid_argument for an empty or non-BGR image, points and directions of
 // different sizes, range_px outside (0, 20] or min_step < 0.
+// The defaults are what the front silhouette and the side profile use.
+constexpr double kSnapRangePx = 2.0;  // search range, pixels
+constexpr double kSnapMinStep = 20;   // weakest step that counts (grey levels)
 std::vector<cv::Point2d> snap_to_colour_step(const cv::Mat& bgr,
                                              const std::vector<cv::Point2d>& points,
                                              const std::vector<cv::Point2d>& directions,
-                                             double range_px, double min_step);
+                                             double range_px = kSnapRangePx,
+                                             double min_step = kSnapMinStep);
 
 // Bilinear sample of a CV_32F image at (x, y) in pixel-centre coordinates (pixel (c, r) has
 // its centre at (c, r)); points outside are clamped to the border.

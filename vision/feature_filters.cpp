@@ -1,8 +1,8 @@
 #include "vision/feature_filters.h"
 
 #include <algorithm>
-#include <optional>
 #include <cmath>
+#include <optional>
 
 #include <opencv2/imgproc.hpp>
 
@@ -270,9 +270,10 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
   // Wing edge: strongest horizontal grey change outward of the nostril along a row, 0.4 d to
   // 1.5 d beyond that side's own nostril (a turned head shifts the two nostrils unevenly from
   // x0, and a fixed range from x0 then misses the far wing); nullopt without a clear edge.
+  auto nostril = [&](int side) { return found ? pos[side] : x0 + (side ? d : -d); };
   auto wing_edge = [&](int side, double y_row) -> std::optional<double> {
     const double s = side == 0 ? -1 : 1;
-    const double base = found ? pos[side] : x0 + s * d;
+    const double base = nostril(side);
     const int y = std::clamp(int(std::lround(y_row)), c.roi.y + 1, c.roi.br().y - 2);
     std::optional<double> at;
     double best = 0;
@@ -287,8 +288,7 @@ NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_su
   // rule above, the one where the two wing edges lie farthest apart.
   double row = row_rule, ax[2] = {0, 0};
   for (int side = 0; side < 2; ++side)
-    ax[side] = wing_edge(side, row).value_or((found ? pos[side] : x0 + (side ? d : -d)) +
-                                             (side ? 0.9 : -0.9) * d);
+    ax[side] = wing_edge(side, row).value_or(nostril(side) + (side ? 0.9 : -0.9) * d);
   if (found) {
     double widest = -1;
     for (double y = 0.5 * (py[0] + py[1]); y >= row_rule - 0.5; y -= 1.0) {

@@ -18,9 +18,6 @@ namespace {
 
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
 
-constexpr double kSnapRangePx = 2.0;  // boundary to colour step: search range, pixels
-constexpr double kSnapMinStep = 20;   // ... and the weakest step that counts (grey levels)
-
 // A profile given as the front photo: one silhouette side has a nose bump, the other not.
 void check_not_profile(const cv::Mat& mask, std::vector<std::string>& warn) {
   const RowExtent e = row_extent(mask);
@@ -119,8 +116,7 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   // The probability's smoothing widens the blob by about a pixel: each row's boundary goes to
   // the photo's own colour step nearby (the rows stay: the search runs along them).
   for (auto* side : {&fb.left, &fb.right})
-    *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}),
-                                kSnapRangePx, kSnapMinStep);
+    *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}));
   FrontFeatures ff = front_features(front, fb, rows, H);
   if (o.use_haar) haar_assist(front, o, ff, warn);
   for (const auto& w : ff.warnings) warn.push_back(w);

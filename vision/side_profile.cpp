@@ -67,7 +67,6 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
 // its nearest curve point (landmarks are found on the smooth fit, whose extrema the per-point
 // steps would only add noise to).
 void on_colour_step(const cv::Mat& bgr, SideProfile& sp) {
-  constexpr double kRangePx = 2.0, kMinStep = 20;  // search range; weakest step (grey levels)
   const std::vector<cv::Point2d>& c = sp.curve;
   if (c.size() < 3) return;
   std::vector<cv::Point2d> normals(c.size());
@@ -75,7 +74,7 @@ void on_colour_step(const cv::Mat& bgr, SideProfile& sp) {
     const cv::Point2d t = c[std::min(i + 2, c.size() - 1)] - c[i < 2 ? 0 : i - 2];
     normals[i] = cv::norm(t) > 1e-9 ? cv::Point2d(-t.y, t.x) : cv::Point2d(1.0, 0.0);
   }
-  const std::vector<cv::Point2d> snapped = snap_to_colour_step(bgr, c, normals, kRangePx, kMinStep);
+  const std::vector<cv::Point2d> snapped = snap_to_colour_step(bgr, c, normals);
   for (auto& [name, f] : sp.features) {
     size_t best = 0;
     for (size_t i = 1; i < c.size(); ++i)
