@@ -127,7 +127,7 @@ class Device {
  private:
   unsigned prio_of(int fd) const {
     auto it = prio_.find(fd);
-    return it == prio_.end() ? V4L2_PRIORITY_DEFAULT : it->second;
+    return it == prio_.end() ? unsigned(V4L2_PRIORITY_DEFAULT) : it->second;
   }
   unsigned max_prio() const {
     unsigned m = V4L2_PRIORITY_BACKGROUND;

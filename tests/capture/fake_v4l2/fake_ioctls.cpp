@@ -1,4 +1,5 @@
 // The ioctls of the fake V4L2 device, written after the V4L2 specification and videobuf2.
+#include <cmath>
 #include <sys/eventfd.h>
 #include <sys/mman.h>
 #include <unistd.h>
@@ -350,9 +351,13 @@ void Device::produce() {
       signal_locked();  // wake epoll / select waiters: the next ioctl says ENODEV
       break;
     }
-    next += period;
-    if (next < now_s()) next = now_s() + period;  // fell behind: do not burst
+    // The frame's capture instant on the device's own period grid (a driver stamps the
+    // hardware's frame time, not when software got round to it); a tick this thread woke too
+    // late for is a dropped frame: its sequence number passes, no burst follows.
+    const double tick = next;
     const unsigned seq = sequence_++;
+    next += period;
+    while (next < now_s()) next += period, ++sequence_;
     if (queued_.empty()) continue;
     const unsigned index = queued_.front();
     queued_.pop_front();
@@ -362,9 +367,8 @@ void Device::produce() {
     const size_t n = source_.fill(fmt.pixelformat, fmt.width, fmt.height, seq,
                                   static_cast<unsigned char*>(b.data), b.length);
     lock.lock();
-    timespec ts{};
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    b.timestamp = {ts.tv_sec, ts.tv_nsec / 1000};
+    const double whole = std::floor(tick);
+    b.timestamp = {time_t(whole), suseconds_t((tick - whole) * 1e6)};
     b.bytesused = unsigned(n);
     b.flags = n ? 0 : V4L2_BUF_FLAG_ERROR;
     b.sequence = seq;
