@@ -108,7 +108,7 @@ void draw_plot(cv::Mat& img, cv::Rect area, const std::vector<double>& xs,
 // Offline generator of model/base_mesh_data.cpp: the average sim head (seed 0) sliced every
 // kGenStepMm between forehead_top and chin_bottom; each slice's front half sampled by rays from
 // the point (x 0, z 0) in the slice plane at angles -90..90 degrees (farthest crossing).
-constexpr double kGenStepMm = 3.0;
+constexpr double kGenStepMm = 1.0;
 constexpr int kGenHalfRays = 46;  // rays from 0 to 90 degrees, inclusive
 
 std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> slice_segments(const model::TriMesh& m,

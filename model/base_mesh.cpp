@@ -139,7 +139,11 @@ BaseMesh base_mesh(const BaseMeshOptions& options) {
         auto& n = b.neighbours[f[i]];
         if (i != j && std::find(n.begin(), n.end(), f[j]) == n.end()) n.push_back(f[j]);
       }
-  // Feature vertices: the vertex nearest each generic landmark (ears are outside the face).
+  // Feature vertices: the vertex nearest each generic landmark (ears are outside the face),
+  // slid along its slice to the landmark's contour angle: exactly onto the landmark when the
+  // slice is at its height. A feature vertex left where the evenly spaced rays put it (up to
+  // half a ray step off, 3 mm at the eyes) would carry that offset into every adaptation as a
+  // displacement the face does not have. Boundary vertices stay (midline features lie on them).
   for (const auto& [name, p] : generic_landmarks()) {
     if (name.rfind("ear_", 0) == 0) continue;
     int best = 0;
@@ -147,6 +151,12 @@ BaseMesh base_mesh(const BaseMeshOptions& options) {
       if ((b.mesh.vertices[v] - p).squaredNorm() < (b.mesh.vertices[best] - p).squaredNorm())
         best = v;
     b.features[name] = best;
+    if (b.groups[best] == VertexGroup::NonFeature) {
+      const double phi = std::atan2(p.x(), p.z()), y = b.mesh.vertices[best].y();
+      const Eigen::Vector2d xz = generic_contour(y, phi);
+      b.mesh.vertices[best] = {xz.x(), y, xz.y()};
+      b.mesh.uvs[best].x() = phi / M_PI + 0.5;  // u = contour angle, as for the others
+    }
     b.groups[best] = VertexGroup::Feature;
   }
   return b;
