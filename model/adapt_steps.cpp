@@ -63,6 +63,35 @@ double outlier_limit_mm(const Observed& observed, const AdaptOptions& options) {
                     options.max_feature_shift_mm);
 }
 
+// x of the aligned base's slice extreme on one side (sign -1: subject's right, +1: left) at
+// height y: linear between the two slices around y, the end slice's beyond them.
+double aligned_extreme_x(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
+                         double y, int sign) {
+  auto extreme = [&](size_t s) -> const Eigen::Vector3d& {
+    return aligned[sign > 0 ? base.slices[s].back() : base.slices[s].front()];
+  };
+  for (size_t s = 0; s + 1 < base.slices.size(); ++s) {  // slices run top to bottom
+    const Eigen::Vector3d &a = extreme(s), &b = extreme(s + 1);
+    if (y <= a.y() && y >= b.y())
+      return a.y() > b.y() ? b.x() + (a.x() - b.x()) * (y - b.y()) / (a.y() - b.y()) : a.x();
+  }
+  return y > extreme(0).y() ? extreme(0).x() : extreme(base.slices.size() - 1).x();
+}
+
+// Where a feature seen in the front view only goes, before its depth is set. The front view
+// sees a cheek as the face's outline with the ear removed (vision/front_features.cpp), which
+// lies near the tragus plane, 12 mm behind the base's cheek vertex where the face is narrower
+// (1 mm on the generic head, 3.5 mm on sim seed 13). Such a cheek moves its vertex sideways as
+// far as the outline moved from the aligned base's slice extreme, instead of onto the outline.
+Eigen::Vector3d front_only_target(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
+                                  const std::string& name, int vertex, Eigen::Vector3d observed) {
+  static const std::map<std::string, int> outline_side = {{"cheek_left", +1}, {"cheek_right", -1}};
+  if (const auto it = outline_side.find(name); it != outline_side.end())
+    observed.x() = aligned[vertex].x() + observed.x() -
+                   aligned_extreme_x(base, aligned, observed.y(), it->second);
+  return observed;
+}
+
 }  // namespace
 
 LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
@@ -96,8 +125,12 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
       continue;
     }
     names[v] = name;
-    if (point->has_depth) t[v] = point->head_mm;
-    else no_depth.push_back({v, point->head_mm}), t.erase(v);
+    if (point->has_depth) {
+      t[v] = point->head_mm;
+    } else {
+      no_depth.push_back({v, front_only_target(base, aligned, name, v, point->head_mm)});
+      t.erase(v);
+    }
   }
   LandmarkTargets out;
   for (const auto& [v, p] : t) {
@@ -106,7 +139,8 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
     out.names.push_back(names.count(v) ? names[v] : "");
   }
   if (no_depth.empty() || out.vertices.empty()) return out;
-  // Front-only features: x and y from the front view, z from NNWA over the 3D points.
+  // Front-only features: x and y from the front view (front_only_target), z from NNWA over the
+  // 3D points.
   std::vector<Eigen::Vector3d> lm, disp, query;
   for (size_t i = 0; i < out.vertices.size(); ++i)
     lm.push_back(aligned[out.vertices[i]]), disp.push_back(out.positions[i] - lm.back());

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -205,6 +206,43 @@ TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
   // Without the outlier the known transform comes back (z scaled like x).
   EXPECT_NEAR((a.scale - Eigen::Vector3d(1.1, 0.9, 1.1)).norm(), 0.0, 1e-3);
   EXPECT_GT((align_base(base, d).scale - a.scale).norm(), 0.01);  // the outlier pulls
+}
+
+// The front view sees a cheek as the face's outline with the ear removed: a cheek seen only
+// from the front moves its vertex as far as the outline moved from the base's slice extreme,
+// not onto the outline (which lies 12 mm behind the cheek vertex, where the face is wider).
+TEST(LandmarkTargets, FrontOnlyCheekMovesByTheOutlinesShift) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
+  const std::vector<Eigen::Vector3d>& aligned = base.mesh.vertices;
+  for (const auto& [name, side, shift] :
+       {std::tuple{"cheek_left", +1, 3.0}, std::tuple{"cheek_right", -1, -2.0}}) {
+    const int cheek = base.features.at(name);
+    size_t near = 0;  // the slice nearest the cheek, and its extreme on the cheek's side
+    for (size_t sl = 0; sl < base.slices.size(); ++sl)
+      if (std::abs(aligned[base.centre(int(sl))].y() - aligned[cheek].y()) <
+          std::abs(aligned[base.centre(int(near))].y() - aligned[cheek].y()))
+        near = sl;
+    const Eigen::Vector3d& extreme =
+        aligned[side > 0 ? base.slices[near].back() : base.slices[near].front()];
+    const Eigen::Vector2d px =
+        capture::project(s.rig.front, extreme + Eigen::Vector3d(shift, 0, 0));
+    s.observation.front.features[name].px = {px.x(), px.y()};
+    s.observation.side.features.erase(name);
+  }
+  const StereoData d = stereo_match(s.observation, s.rig);
+  ASSERT_FALSE(d.features.at("cheek_left").has_depth);
+  ASSERT_FALSE(d.features.at("cheek_right").has_depth);
+  const LandmarkTargets t = landmark_targets(base, aligned, d, AdaptOptions{});
+  int found = 0;
+  for (size_t i = 0; i < t.vertices.size(); ++i) {
+    if (t.names[i] != "cheek_left" && t.names[i] != "cheek_right") continue;
+    ++found;
+    const double shift = t.names[i] == "cheek_left" ? 3.0 : -2.0;
+    EXPECT_NEAR(t.positions[i].x(), aligned[t.vertices[i]].x() + shift, 1e-6) << t.names[i];
+    EXPECT_NEAR(t.positions[i].y(), d.features.at(t.names[i]).head_mm.y(), 1e-9);
+  }
+  EXPECT_EQ(found, 2);
 }
 
 TEST(Adapt, BadKThrows) {
