@@ -83,12 +83,15 @@ double aligned_extreme_x(const BaseMesh& base, const std::vector<Eigen::Vector3d
 // lies near the tragus plane, 12 mm behind the base's cheek vertex where the face is narrower
 // (1 mm on the generic head, 3.5 mm on sim seed 13). Such a cheek moves its vertex sideways as
 // far as the outline moved from the aligned base's slice extreme, instead of onto the outline.
+// The extreme is taken at the vertex's own height (the nose-tip row of the base, as the
+// observation is the face's): the outline narrows steeply there, and at the observed row it
+// would follow any error of the vertical alignment.
 Eigen::Vector3d front_only_target(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
                                   const std::string& name, int vertex, Eigen::Vector3d observed) {
   static const std::map<std::string, int> outline_side = {{"cheek_left", +1}, {"cheek_right", -1}};
   if (const auto it = outline_side.find(name); it != outline_side.end())
     observed.x() = aligned[vertex].x() + observed.x() -
-                   aligned_extreme_x(base, aligned, observed.y(), it->second);
+                   aligned_extreme_x(base, aligned, aligned[vertex].y(), it->second);
   return observed;
 }
 
