@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -105,12 +106,17 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
   for (size_t j = 0; j < points.size(); ++j) {
     const Eigen::Vector3d& p = points[j];
     d2 = (lx - p.x()).square() + (ly - p.y()).square() + (lz - p.z()).square();
-    // Outwards from the previous point's nearest landmark: consecutive points and landmarks
-    // are mostly near in space (vertex order), so most offers are rejected by one comparison.
-    const int nearest = j > 0 ? best[0].second : 0;
+    // Consecutive points are mostly near in space (vertex order): the previous point's k
+    // nearest landmarks are k candidates within `bound` of this one, so the k nearest are too,
+    // and only the few landmarks within it are offered.
+    double bound = std::numeric_limits<double>::infinity();
+    if (j > 0) {
+      bound = 0;
+      for (int m = 0; m < k; ++m) bound = std::max(bound, d2[best[m].second]);
+    }
     best.reset();
-    for (int i = nearest; i < n; ++i) best.offer(d2[i], i);
-    for (int i = nearest - 1; i >= 0; --i) best.offer(d2[i], i);
+    for (int i = 0; i < n; ++i)
+      if (d2[i] <= bound) best.offer(d2[i], i);
     if (best[0].first < 1e-18) {  // on a landmark: its own displacement (the limit of eq. 3.8)
       out[j] = displacements[best[0].second];
       continue;

@@ -26,9 +26,12 @@ AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
 
 std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh);
 
-// Aligned positions with the targets set and the others moved by NNWA (seed 002 eq. 3.9).
+// Aligned positions with the targets set and the others moved by NNWA (seed 002 eq. 3.9),
+// except the vertices flagged in `skip` (one flag per vertex, or empty), which stay aligned.
+// Throws std::invalid_argument when `skip` has another size.
 std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& aligned,
-                                          const LandmarkTargets& targets, int k);
+                                          const LandmarkTargets& targets, int k,
+                                          const std::vector<char>& skip = {});
 
 // Aligned positions with the targets set and the others moved by seed 004 eq. 2 along their
 // slice, between its centre-line vertex and its two extremes; an extreme without silhouette

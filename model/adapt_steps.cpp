@@ -236,15 +236,22 @@ std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh) {
 }
 
 std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& aligned,
-                                          const LandmarkTargets& targets, int k) {
+                                          const LandmarkTargets& targets, int k,
+                                          const std::vector<char>& skip) {
+  if (!skip.empty() && skip.size() != aligned.size())
+    throw std::invalid_argument("move_by_nnwa: " + std::to_string(skip.size()) +
+                                " skip flags for " + std::to_string(aligned.size()) + " vertices");
   std::vector<Eigen::Vector3d> lm, disp;
   for (size_t i = 0; i < targets.vertices.size(); ++i) {
     lm.push_back(aligned[targets.vertices[i]]);
     disp.push_back(targets.positions[i] - lm.back());  // seed 002 eq. 3.7 (custom - original)
   }
-  const auto d = nnwa_displacements(aligned, lm, disp, k);
-  std::vector<Eigen::Vector3d> out(aligned.size());
-  for (size_t j = 0; j < aligned.size(); ++j) out[j] = aligned[j] + d[j];  // eq. 3.9
+  std::vector<Eigen::Vector3d> out = aligned, query;
+  std::vector<int> moved;
+  for (size_t j = 0; j < aligned.size(); ++j)
+    if (skip.empty() || !skip[j]) moved.push_back(static_cast<int>(j)), query.push_back(aligned[j]);
+  const auto d = nnwa_displacements(query, lm, disp, k);
+  for (size_t i = 0; i < moved.size(); ++i) out[moved[i]] += d[i];  // eq. 3.9
   for (size_t i = 0; i < targets.vertices.size(); ++i)
     out[targets.vertices[i]] = targets.positions[i];
   return out;
@@ -253,14 +260,20 @@ std::vector<Eigen::Vector3d> move_by_nnwa(const std::vector<Eigen::Vector3d>& al
 std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
                                                    const std::vector<Eigen::Vector3d>& aligned,
                                                    const LandmarkTargets& targets, int k) {
-  std::vector<Eigen::Vector3d> out = move_by_nnwa(aligned, targets, k);  // fallback
   std::map<int, Eigen::Vector3d> fixed;
   for (size_t i = 0; i < targets.vertices.size(); ++i)
     fixed[targets.vertices[i]] = targets.positions[i];
+  // The inner vertices of a slice with a profile point are eq. 2's; NNWA moves the rest.
+  auto has_profile = [&](const std::vector<int>& ids) { return fixed.count(ids[ids.size() / 2]); };
+  std::vector<char> by_eq2(aligned.size(), 0);
+  for (const std::vector<int>& ids : base.slices)
+    if (has_profile(ids))
+      for (size_t i = 1; i + 1 < ids.size(); ++i) by_eq2[ids[i]] = !fixed.count(ids[i]);
+  std::vector<Eigen::Vector3d> out = move_by_nnwa(aligned, targets, k, by_eq2);
   for (size_t s = 0; s < base.slices.size(); ++s) {
     const std::vector<int>& ids = base.slices[s];
     const int mid = static_cast<int>(ids.size()) / 2;
-    if (!fixed.count(ids[mid])) continue;  // no profile point: NNWA
+    if (!has_profile(ids)) continue;  // no profile point: NNWA
     // An extreme without silhouette data (ear heights, below the jaw) is the boundary vertex
     // NNWA placed: the profile point still stretches the slice between it and the centre line,
     // which NNWA alone does not do when named features lie nearer than the centre line (the

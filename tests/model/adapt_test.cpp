@@ -1,5 +1,6 @@
 #include "model/adapt.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -103,6 +104,31 @@ TEST(Interpolate, ProfilePointStretchesASliceWithoutSilhouette) {
   }
   EXPECT_NEAR(out[ids[mid]].z() - aligned[ids[mid]].z(), 10.0, 1e-12);
   EXPECT_LT(std::abs(out[right].z() - aligned[right].z()), 10.0);
+}
+
+// eq. 2 asks NNWA only for the vertices it does not place itself: skipped vertices stay where
+// they are aligned, the others move exactly as without the flags.
+TEST(Nnwa, SkippedVerticesStayAligned) {
+  const BaseMesh base = base_mesh();
+  const std::vector<Eigen::Vector3d>& aligned = base.mesh.vertices;
+  LandmarkTargets t;
+  for (int s : {2, 12, 22, 32})
+    for (int v : {base.slices[s].front(), base.centre(s), base.slices[s].back()})
+      t.vertices.push_back(v), t.names.push_back(""),
+          t.positions.push_back(aligned[v] + Eigen::Vector3d(1, -2, 3) * (s / 10.0));
+  std::vector<char> skip(aligned.size(), 0);
+  for (size_t v = 0; v < skip.size(); v += 3) skip[v] = 1;
+  const auto all = detail::move_by_nnwa(aligned, t, 5);
+  const auto some = detail::move_by_nnwa(aligned, t, 5, skip);
+  int moved = 0;
+  for (size_t v = 0; v < aligned.size(); ++v) {
+    const bool target = std::find(t.vertices.begin(), t.vertices.end(), int(v)) != t.vertices.end();
+    const Eigen::Vector3d& expect = skip[v] && !target ? aligned[v] : all[v];
+    EXPECT_NEAR((some[v] - expect).norm(), 0.0, 1e-12) << v;
+    moved += (all[v] - aligned[v]).norm() > 0.1;
+  }
+  EXPECT_GT(moved, 100);  // the unskipped answer is a real displacement
+  EXPECT_THROW(detail::move_by_nnwa(aligned, t, 5, std::vector<char>(3, 0)), std::invalid_argument);
 }
 
 TEST(Adapt, NoFoldsWithNoisyFeatures) {
