@@ -79,13 +79,14 @@ double aligned_extreme_x(const BaseMesh& base, const std::vector<Eigen::Vector3d
 }
 
 // Where a feature seen in the front view only goes, before its depth is set. The front view
-// sees a cheek as the face's outline with the ear removed (vision/front_features.cpp), which
-// lies near the tragus plane, 12 mm behind the base's cheek vertex where the face is narrower
-// (1 mm on the generic head, 3.5 mm on sim seed 13). Such a cheek moves its vertex sideways as
-// far as the outline moved from the aligned base's slice extreme, instead of onto the outline.
-// The extreme is taken at the vertex's own height (the nose-tip row of the base, as the
-// observation is the face's): the outline narrows steeply there, and at the observed row it
-// would follow any error of the vertical alignment.
+// sees a cheek as the face's outline at the nose-tip row (vision/front_features.cpp), where the
+// silhouette is mostly the ear lobe: vision fits the outline across the ear and keeps part of
+// it (on sim heads 0.5 mm on average, up to 4 mm), as the base's slice extreme at that height
+// keeps part of the generic ear (0.9 mm). So the cheek is compared like with like: its vertex
+// moves sideways as far as the observed outline lies from the aligned base's extreme, instead
+// of onto the observed outline. The extreme is taken at the vertex's own height (the nose-tip
+// row of the base, as the observation is the face's): the outline narrows steeply there, and
+// at the observed row it would follow any error of the vertical alignment.
 Eigen::Vector3d front_only_target(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
                                   const std::string& name, int vertex, Eigen::Vector3d observed) {
   static const std::map<std::string, int> outline_side = {{"cheek_left", +1}, {"cheek_right", -1}};

@@ -234,9 +234,9 @@ TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
   EXPECT_GT((align_base(base, d).scale - a.scale).norm(), 0.01);  // the outlier pulls
 }
 
-// The front view sees a cheek as the face's outline with the ear removed: a cheek seen only
-// from the front moves its vertex as far as the outline moved from the base's slice extreme,
-// not onto the outline (which lies 12 mm behind the cheek vertex, where the face is wider).
+// The front view sees a cheek as the face's outline at the nose-tip row: a cheek seen only
+// from the front moves its vertex as far as the observed outline lies from the base's slice
+// extreme at that height, not onto the observed outline.
 TEST(LandmarkTargets, FrontOnlyCheekMovesByTheOutlinesShift) {
   const BaseMesh base = base_mesh();
   auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
