@@ -63,36 +63,21 @@ double outlier_limit_mm(const Observed& observed, const AdaptOptions& options) {
                     options.max_feature_shift_mm);
 }
 
-// x of the aligned base's slice extreme on one side (sign -1: subject's right, +1: left) at
-// height y: linear between the two slices around y, the end slice's beyond them.
-double aligned_extreme_x(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
-                         double y, int sign) {
-  auto extreme = [&](size_t s) -> const Eigen::Vector3d& {
-    return aligned[sign > 0 ? base.slices[s].back() : base.slices[s].front()];
-  };
-  for (size_t s = 0; s + 1 < base.slices.size(); ++s) {  // slices run top to bottom
-    const Eigen::Vector3d &a = extreme(s), &b = extreme(s + 1);
-    if (y <= a.y() && y >= b.y())
-      return a.y() > b.y() ? b.x() + (a.x() - b.x()) * (y - b.y()) / (a.y() - b.y()) : a.x();
-  }
-  return y > extreme(0).y() ? extreme(0).x() : extreme(base.slices.size() - 1).x();
-}
-
 // Where a feature seen in the front view only goes, before its depth is set. The front view
 // sees a cheek as the face's outline at the nose-tip row (vision/front_features.cpp), where the
 // silhouette is mostly the ear lobe: vision fits the outline across the ear and keeps part of
 // it (on sim heads 0.5 mm on average, up to 4 mm), as the base's slice extreme at that height
 // keeps part of the generic ear (0.9 mm). So the cheek is compared like with like: its vertex
 // moves sideways as far as the observed outline lies from the aligned base's extreme, instead
-// of onto the observed outline. The extreme is taken at the vertex's own height (the nose-tip
+// of onto the observed outline. The extreme is that of the vertex's own slice (the nose-tip
 // row of the base, as the observation is the face's): the outline narrows steeply there, and
 // at the observed row it would follow any error of the vertical alignment.
 Eigen::Vector3d front_only_target(const BaseMesh& base, const std::vector<Eigen::Vector3d>& aligned,
                                   const std::string& name, int vertex, Eigen::Vector3d observed) {
-  static const std::map<std::string, int> outline_side = {{"cheek_left", +1}, {"cheek_right", -1}};
-  if (const auto it = outline_side.find(name); it != outline_side.end())
-    observed.x() = aligned[vertex].x() + observed.x() -
-                   aligned_extreme_x(base, aligned, aligned[vertex].y(), it->second);
+  if (name != "cheek_left" && name != "cheek_right") return observed;
+  const std::vector<int>& slice = base.slices[base.slice_of_vertex[vertex]];
+  const int extreme = name == "cheek_left" ? slice.back() : slice.front();  // left is +x
+  observed.x() += aligned[vertex].x() - aligned[extreme].x();
   return observed;
 }
 

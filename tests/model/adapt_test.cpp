@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <tuple>
+#include <map>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -241,18 +241,12 @@ TEST(LandmarkTargets, FrontOnlyCheekMovesByTheOutlinesShift) {
   const BaseMesh base = base_mesh();
   auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
   const std::vector<Eigen::Vector3d>& aligned = base.mesh.vertices;
-  for (const auto& [name, side, shift] :
-       {std::tuple{"cheek_left", +1, 3.0}, std::tuple{"cheek_right", -1, -2.0}}) {
-    const int cheek = base.features.at(name);
-    size_t near = 0;  // the slice nearest the cheek, and its extreme on the cheek's side
-    for (size_t sl = 0; sl < base.slices.size(); ++sl)
-      if (std::abs(aligned[base.centre(int(sl))].y() - aligned[cheek].y()) <
-          std::abs(aligned[base.centre(int(near))].y() - aligned[cheek].y()))
-        near = sl;
-    const Eigen::Vector3d& extreme =
-        aligned[side > 0 ? base.slices[near].back() : base.slices[near].front()];
+  const std::map<std::string, double> shift = {{"cheek_left", 3.0}, {"cheek_right", -2.0}};
+  for (const auto& [name, dx] : shift) {  // observed at the slice extreme on its side, moved
+    const std::vector<int>& slice = base.slices[base.slice_of_vertex[base.features.at(name)]];
+    const int extreme = dx > 0 ? slice.back() : slice.front();
     const Eigen::Vector2d px =
-        capture::project(s.rig.front, extreme + Eigen::Vector3d(shift, 0, 0));
+        capture::project(s.rig.front, aligned[extreme] + Eigen::Vector3d(dx, 0, 0));
     s.observation.front.features[name].px = {px.x(), px.y()};
     s.observation.side.features.erase(name);
   }
@@ -264,8 +258,8 @@ TEST(LandmarkTargets, FrontOnlyCheekMovesByTheOutlinesShift) {
   for (size_t i = 0; i < t.vertices.size(); ++i) {
     if (t.names[i] != "cheek_left" && t.names[i] != "cheek_right") continue;
     ++found;
-    const double shift = t.names[i] == "cheek_left" ? 3.0 : -2.0;
-    EXPECT_NEAR(t.positions[i].x(), aligned[t.vertices[i]].x() + shift, 1e-6) << t.names[i];
+    EXPECT_NEAR(t.positions[i].x(), aligned[t.vertices[i]].x() + shift.at(t.names[i]), 1e-6)
+        << t.names[i];
     EXPECT_NEAR(t.positions[i].y(), d.features.at(t.names[i]).head_mm.y(), 1e-9);
   }
   EXPECT_EQ(found, 2);
