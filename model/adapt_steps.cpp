@@ -267,7 +267,7 @@ std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
     for (int end : {ids.front(), ids.back()})
       if (!fixed.count(end)) fixed[end] = out[end];
     for (int i = 1; i + 1 < static_cast<int>(ids.size()); ++i) {
-      if (i == mid || fixed.count(ids[i])) continue;
+      if (!by_eq2[ids[i]]) continue;
       const int bl = i < mid ? ids.front() : ids[mid], br = i < mid ? ids[mid] : ids.back();
       const Eigen::Vector3d &l = fixed[bl], &r = fixed[br];
       const Eigen::Vector3d &l0 = aligned[bl], &r0 = aligned[br], &a0 = aligned[ids[i]];

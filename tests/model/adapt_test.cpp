@@ -113,9 +113,11 @@ TEST(Nnwa, SkippedVerticesStayAligned) {
   const std::vector<Eigen::Vector3d>& aligned = base.mesh.vertices;
   LandmarkTargets t;
   for (int s : {2, 12, 22, 32})
-    for (int v : {base.slices[s].front(), base.centre(s), base.slices[s].back()})
-      t.vertices.push_back(v), t.names.push_back(""),
-          t.positions.push_back(aligned[v] + Eigen::Vector3d(1, -2, 3) * (s / 10.0));
+    for (int v : {base.slices[s].front(), base.centre(s), base.slices[s].back()}) {
+      t.vertices.push_back(v);
+      t.positions.push_back(aligned[v] + Eigen::Vector3d(1, -2, 3) * (s / 10.0));
+      t.names.push_back("");
+    }
   std::vector<char> skip(aligned.size(), 0);
   for (size_t v = 0; v < skip.size(); v += 3) skip[v] = 1;
   const auto all = detail::move_by_nnwa(aligned, t, 5);
