@@ -9,6 +9,7 @@
 
 #include "app/pipeline.h"
 #include "model/mesh_io.h"
+#include "render/new_view.h"
 #include "vision/observation_io.h"
 
 namespace orthoface::app {
@@ -49,6 +50,9 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"version", 1},
           {"scale", rep.scale_note},
           {"rig_source", r.rig.source},
+          // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
+          {"photographed_side_yaw_sign",
+           render::photographed_side_sign(render::photo_rig(r.rig, r.observation.side_faces_left))},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},

@@ -33,10 +33,15 @@ Command render_command() {
           "more (pick) or a cosine-weighted mix (weighted), never from a photo that cannot see "
           "it. Without rig.yaml the ideal rig of the photo size (1.6 px/mm) is assumed.",
           "orthoface render DIR --yaw DEG [options] -o view.png   |   orthoface render DIR --export head.glb",
-          {{"yaw", true, "DEG  -180..180, 0 = front, 90 = side camera"},
+          {{"yaw", true, "DEG  -180..180: 0 = the front photo's view; > 0 turns the view toward the "
+                         "subject's left (the face seems turned to its own right), < 0 toward the "
+                         "subject's right, whichever side the side camera stood on; "
+                         "report.json's photographed_side_yaw_sign says which sign shows the "
+                         "photographed side"},
            {"pitch", true, "DEG  -89..89, > 0 looks from above (default 0)"},
            {"size", true, "WxH  output size, each side 1..8192 (default: the front photo's)"},
-           {"blend", true, "MODE  pick or weighted (default pick)"},
+           {"blend", true, "MODE  view (default: the photo nearer the new view and better facing), "
+                           "pick (the photo the surface faces more, seed 004) or weighted"},
            {"background", true, "COLOR  black, white, grey, #RRGGBB, R,G,B or transparent (PNG)"},
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
@@ -194,10 +199,11 @@ int run_render(int argc, char** argv) {
   const double yaw = a.has("yaw") ? to_double("yaw", a.get("yaw"), -180, 180) : 0;
   const double pitch = to_double("pitch", a.get("pitch", "0"), -89, 89);
   render::SynthesisOptions o;
-  const std::string blend = a.get("blend", "pick");
-  if (blend != "pick" && blend != "weighted")
-    throw std::invalid_argument("--blend: expected pick or weighted, got '" + blend + "'");
-  o.blend = blend == "pick" ? render::Blend::Pick : render::Blend::Weighted;
+  try {
+    o.blend = render::parse_blend(a.get("blend", "view"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--blend: ") + e.what());
+  }
   o.equalize = !a.has("no-equalize");
   const std::string bg = a.get("background", "black");
   const bool transparent = bg == "transparent";
@@ -223,7 +229,7 @@ int run_render(int argc, char** argv) {
     const auto r = synth.render(view_camera(f.rig.front, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s)\n", out.string().c_str(), w, h, yaw,
-                pitch, blend.c_str());
+                pitch, render::blend_name(o.blend));
     return 0;
   }
   std::vector<render::Tile> tiles;
@@ -238,7 +244,7 @@ int run_render(int argc, char** argv) {
   }
   render::ContactSheetOptions so;
   so.columns = std::min(turntable, 6);
-  so.title = "orthoface render " + a.positional[0] + " (" + blend + ")";
+  so.title = "orthoface render " + a.positional[0] + " (" + render::blend_name(o.blend) + ")";
   write_image(render::contact_sheet(tiles, so), out);
   std::printf("wrote %d views and the sheet %s\n", turntable, out.string().c_str());
   return 0;

@@ -5,20 +5,16 @@
 //                                        inside the face mask at yaw 15..75 against the true
 //                                        view; JSON on stdout, Markdown on stderr; OUTDIR gets
 //                                        views_accuracy.{json,md} and error pictures at 45 deg
-//   views_bench frmdb DIR OUTDIR         real FRMDB people (DIR/<id>/Img_33, Img_53, Img_43):
-//                                        reconstruct from 33 + 53, synthesize the 45 deg view,
-//                                        SSIM against Img_43 after aligning on the eyes; one
-//                                        picture per person in OUTDIR (keep it outside the repo)
+//   real photos are judged by real_views_bench (an independent landmarker, dlib)
 //   --no-photo-masks (last argument)     texture without the side photo's profile mask
 // Every subject goes through the demo's pipeline (app::reconstruct: vision -> stereo -> eq. 2
 // with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
 // bound: only texturing error left), the adapted mesh, the Procrustes fit of the base mesh to
 // the same 3D targets and the unadapted base mesh (model/adapt.h), each with `pick` and
-// `weighted` blending (render/new_view.h).
+// `view`, `pick` and `weighted` blending (render/new_view.h).
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <complex>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -31,7 +27,6 @@
 #include "bench/bench_report.h"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <opencv2/objdetect.hpp>
 
 #include "app/pipeline.h"
 #include "model/adapt.h"
@@ -62,7 +57,8 @@ constexpr int kNumYaws = 5;
 constexpr int kHeadlineYaw = 2;  // index of 45 deg
 const char* const kMeshNames[] = {"true mesh", "adapted", "Procrustes", "unadapted"};
 constexpr int kNumMeshes = 4;
-const char* const kBlendNames[] = {"pick", "weighted"};
+const char* const kBlendNames[] = {"view", "pick", "weighted"};
+constexpr int kNumBlends = 3;
 // Where an uncovered face-mask pixel lies on the true head: height bands between landmarks, on
 // the side turned away from the camera (far) or toward it (near).
 const char* const kRegionNames[] = {"far forehead", "far brow..nose tip", "far nose tip..mouth",
@@ -86,10 +82,10 @@ std::array<model::TriMesh, kNumMeshes> meshes(const model::TriMesh& truth,
 
 // score[mesh][blend][yaw]
 struct Scores {
-  double psnr[kNumMeshes][2][kNumYaws] = {};
-  double ssim[kNumMeshes][2][kNumYaws] = {};
-  double uncovered[kNumMeshes][2][kNumYaws] = {};     // share of the face mask
-  double psnr_covered[kNumMeshes][2][kNumYaws] = {};  // PSNR where the mesh covers the mask
+  double psnr[kNumMeshes][kNumBlends][kNumYaws] = {};
+  double ssim[kNumMeshes][kNumBlends][kNumYaws] = {};
+  double uncovered[kNumMeshes][kNumBlends][kNumYaws] = {};     // share of the face mask
+  double psnr_covered[kNumMeshes][kNumBlends][kNumYaws] = {};  // PSNR where the mesh covers the mask
   // 45 deg, pick: uncovered face-mask pixels by where they lie on the true head (kRegionNames),
   // as shares of the face mask; has_regions false when the head lacks the landmarks.
   double uncovered_region[kNumMeshes][kNumRegions] = {};
@@ -185,9 +181,9 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
     out.s.has_regions = out.s.has_regions || regions;
     for (int k = 0; k < kNumMeshes; ++k) {
       synth.set_mesh(m[k]);
-      for (int b = 0; b < 2; ++b) {
+      for (int b = 0; b < kNumBlends; ++b) {
         render::SynthesisOptions so;
-        so.blend = b == 0 ? render::Blend::Pick : render::Blend::Weighted;
+        so.blend = render::parse_blend(kBlendNames[b]);
         so.background = options.background_bgr;
         so.depth = false;
         const render::RenderResult rendered = synth.render(camera, so).view;
@@ -239,7 +235,7 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
 json scores_json(const Scores& s) {
   json j;
   for (int k = 0; k < kNumMeshes; ++k)
-    for (int b = 0; b < 2; ++b)
+    for (int b = 0; b < kNumBlends; ++b)
       for (int y = 0; y < kNumYaws; ++y)
         j[kMeshNames[k]][kBlendNames[b]].push_back(
             {{"yaw_deg", kYawsDeg[y]}, {"psnr_db", s.psnr[k][b][y]}, {"ssim", s.ssim[k][b][y]},
@@ -260,7 +256,7 @@ std::string summary_table(const std::vector<SubjectResult>& all, json& summary) 
   for (const auto& r : all) n += r.ok;
   if (n == 0) return md;
   for (int k = 0; k < kNumMeshes; ++k)
-    for (int b = 0; b < 2; ++b)
+    for (int b = 0; b < kNumBlends; ++b)
       for (int metric = 0; metric < 2; ++metric) {
         md += std::string("| ") + kMeshNames[k] + " | " + kBlendNames[b] + " | " +
               (metric == 0 ? "PSNR dB" : "SSIM") + " |";
@@ -399,221 +395,6 @@ int run_sim(int subjects, const std::string& out_dir) {
   return 0;
 }
 
-// ---- FRMDB: real photos -------------------------------------------------------------------
-
-// Eye centres (left of the image first) in a photo of a face turned about 45 degrees: Haar eye
-// cascade (OpenCV's haarcascade_eye.xml) inside the upper half of the head's bounding box; the
-// pair of detections most nearly level and of similar size. Empty when not found.
-std::vector<cv::Point2d> haar_eyes(const cv::Mat& bgr, const cv::Rect& head) {
-  static cv::CascadeClassifier eyes(std::string(ORTHOFACE_HAAR_DIR) + "/haarcascade_eye.xml");
-  if (eyes.empty()) throw std::runtime_error("cannot load haarcascade_eye.xml");
-  cv::Mat grey;
-  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-  cv::equalizeHist(grey, grey);
-  const cv::Rect roi = cv::Rect(head.x, head.y + head.height / 6, head.width, head.height / 2) &
-                       cv::Rect(0, 0, bgr.cols, bgr.rows);
-  std::vector<cv::Rect> found;
-  const int min_size = std::max(8, head.width / 14);
-  eyes.detectMultiScale(grey(roi), found, 1.05, 3, 0, cv::Size(min_size, min_size),
-                        cv::Size(head.width / 3, head.width / 3));
-  double best = 1e300;
-  std::vector<cv::Point2d> out;
-  for (size_t i = 0; i < found.size(); ++i)
-    for (size_t j = i + 1; j < found.size(); ++j) {
-      const cv::Rect a = found[i], b = found[j];
-      const cv::Point2d ca(roi.x + a.x + a.width / 2.0, roi.y + a.y + a.height / 2.0);
-      const cv::Point2d cb(roi.x + b.x + b.width / 2.0, roi.y + b.y + b.height / 2.0);
-      const double dx = std::abs(ca.x - cb.x), dy = std::abs(ca.y - cb.y);
-      if (dx < 0.12 * head.width || dx > 0.6 * head.width || dy > 0.35 * dx) continue;
-      const double cost = dy / dx + std::abs(std::log(double(a.width) / b.width));
-      if (cost < best) {
-        best = cost;
-        out = ca.x < cb.x ? std::vector<cv::Point2d>{ca, cb} : std::vector<cv::Point2d>{cb, ca};
-      }
-    }
-  return out;
-}
-
-// Eye centres from vision's front detector (vision::observe_front) run on the turned photo;
-// empty when it does not find both.
-std::vector<cv::Point2d> front_detector_eyes(const cv::Mat& bgr) {
-  try {
-    const vision::FaceObservation obs = vision::observe_front(bgr);
-    const auto& f = obs.front.features;
-    auto a = f.find("eye_left_center"), b = f.find("eye_right_center");
-    if (a == f.end() || b == f.end()) return {};
-    cv::Point2d pa = a->second.px, pb = b->second.px;
-    if (pa.x > pb.x) std::swap(pa, pb);
-    return {pa, pb};
-  } catch (const std::invalid_argument&) {
-    return {};
-  }
-}
-
-// The head's bounding box on FRMDB's dark curtain: the largest bright-enough blob.
-cv::Rect head_box(const cv::Mat& bgr) {
-  cv::Mat grey, fg;
-  cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-  cv::threshold(grey, fg, 0, 255, cv::THRESH_BINARY | cv::THRESH_OTSU);
-  cv::morphologyEx(fg, fg, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {9, 9}));
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(fg, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
-  cv::Rect best;
-  for (const auto& c : contours) {
-    const cv::Rect r = cv::boundingRect(c);
-    if (r.area() > best.area()) best = r;
-  }
-  if (best.height > best.width * 1.4) best.height = int(best.width * 1.4);  // head, not shoulders
-  return best;
-}
-
-Eigen::Vector2d eye_px(const capture::CameraModel& cam,
-                       const std::map<std::string, Eigen::Vector3d>& landmarks, const char* name) {
-  return capture::project(cam, landmarks.at(name));
-}
-
-// Similarity transform taking a -> A and b -> B (2x3, CV_64F).
-cv::Mat similarity(cv::Point2d a, cv::Point2d b, cv::Point2d A, cv::Point2d B) {
-  const std::complex<double> za(a.x, a.y), zb(b.x, b.y), zA(A.x, A.y), zB(B.x, B.y);
-  const std::complex<double> s = (zB - zA) / (zb - za), t = zA - s * za;
-  return (cv::Mat_<double>(2, 3) << s.real(), -s.imag(), t.real(), s.imag(), s.real(), t.imag());
-}
-
-int run_frmdb(const std::string& dir, const std::string& out_dir) {
-  if (!fs::is_directory(dir)) {
-    std::cout << json{{"skipped", "no FRMDB folder at " + dir}}.dump() << "\n";
-    return 0;
-  }
-  fs::create_directories(out_dir);
-  std::vector<std::string> people;
-  for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_directory() && fs::exists(e.path() / "Img_43.JPG")) people.push_back(e.path().filename());
-  std::sort(people.begin(), people.end());
-  static const model::BaseMesh base = model::base_mesh();
-  json res = json::array();
-  double sum[3] = {0, 0, 0};
-  std::vector<render::Tile> overview;
-  int n = 0;
-  std::string md = "| person | adapted | Procrustes | unadapted | eyes in Img_43 |\n|---|---|---|---|---|\n";
-  for (const std::string& p : people) {
-    const fs::path d = fs::path(dir) / p;
-    json r = {{"person", p}};
-    try {
-      const cv::Mat front = cv::imread((d / "Img_33.JPG").string());
-      const cv::Mat side = cv::imread((d / "Img_53.JPG").string());
-      const cv::Mat real = cv::imread((d / "Img_43.JPG").string());
-      if (front.empty() || side.empty() || real.empty()) throw std::runtime_error("unreadable photo");
-      // FRMDB's Img_53 is taken from the subject's right (SOURCE.md): said, not guessed, as
-      // `reconstruct --side-camera right` would.
-      app::ReconstructOptions ro;
-      ro.observe.side_camera = vision::SideCamera::Right;
-      const app::Reconstruction rec = app::reconstruct(front, side, ro);
-      const capture::RigCalibration rig =
-          render::photo_rig(rec.rig, rec.observation.side_faces_left);
-      // Img_43 stands between the front and the side camera (DESIGN.md yaw toward the side
-      // camera, which is at -x when the photo rig was reflected).
-      const double yaw = (rec.observation.side_faces_left ? 45.0 : -45.0) * M_PI / 180;
-      const capture::CameraModel cam = capture::camera_at(rec.rig.front, yaw, 0, 1000);
-      const model::StereoData data = model::stereo_match(rec.observation, rec.rig);
-      const model::TriMesh m[3] = {bare(rec.mesh), bare(model::procrustes_fit(base, data)),
-                                   bare(base.mesh)};
-      std::string eye_source = "Haar";
-      std::vector<cv::Point2d> real_eyes = haar_eyes(real, head_box(real));
-      if (real_eyes.size() != 2) {
-        eye_source = "vision front";
-        real_eyes = front_detector_eyes(real);
-      }
-      r["side_faces_left"] = rec.observation.side_faces_left;
-      r["eye_source"] = eye_source;
-      if (real_eyes.size() != 2) throw std::runtime_error("no eye pair found in Img_43");
-      r["img43_eyes_px"] = {{real_eyes[0].x, real_eyes[0].y}, {real_eyes[1].x, real_eyes[1].y}};
-      render::ViewSynthesizer synth(m[0], rig, rec.front, rec.side);
-      if (g_photo_masks)
-        synth.set_photo_masks({}, render::profile_mask(rec.observation.side,
-                                                       rec.observation.side_faces_left));
-      std::vector<render::Tile> tiles{{real, p + ": real Img_43"}};
-      cv::Mat mask;  // face of the adapted mesh in the real photo's frame (same for all three)
-      double ssim[3] = {0, 0, 0};
-      cv::Mat warped[3];
-      for (int k = 0; k < 3; ++k) {
-        synth.set_mesh(m[k]);
-        const render::SynthesisResult v = synth.render(cam, {});
-        // Eyes of this mesh in the view: the adapted and Procrustes meshes carry the model's
-        // landmarks; the unadapted base mesh's are the generic ones.
-        const auto& lm = k == 2 ? model::generic_landmarks() : rec.landmarks;
-        Eigen::Vector2d e0 = eye_px(cam, lm, "eye_left_center"), e1 = eye_px(cam, lm, "eye_right_center");
-        if (e0.x() > e1.x()) std::swap(e0, e1);
-        const cv::Mat t = similarity({e0.x(), e0.y()}, {e1.x(), e1.y()}, real_eyes[0], real_eyes[1]);
-        cv::warpAffine(v.view.image, warped[k], t, real.size(), cv::INTER_LINEAR);
-        if (k == 0) {
-          // The face: view pixels of the mesh between the brows' height band of the eyes and
-          // the chin, i.e. within 1.6 eye distances around the eye midpoint, warped likewise.
-          cv::Mat face(v.view.mask.size(), CV_8U, cv::Scalar(0));
-          const Eigen::Vector2d c = (e0 + e1) / 2;
-          const double eye_dist = (lm.at("eye_left_center") - lm.at("eye_right_center")).norm() *
-                                  cam.fx;
-          cv::ellipse(face, cv::Point(int(c.x()), int(c.y() + 0.6 * eye_dist)),
-                      cv::Size(int(0.9 * eye_dist), int(1.4 * eye_dist)), 0, 0, 360,
-                      cv::Scalar(255), cv::FILLED);
-          face &= v.view.mask;
-          cv::warpAffine(face, mask, t, real.size(), cv::INTER_NEAREST);
-        }
-      }
-      for (int k = 0; k < 3; ++k) {
-        ssim[k] = render::ssim(real, warped[k], mask);
-        cv::Mat shown = warped[k].clone();
-        std::vector<std::vector<cv::Point>> outline;
-        cv::findContours(mask.clone(), outline, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
-        cv::drawContours(shown, outline, -1, cv::Scalar(0, 255, 255), 1);
-        for (const auto& e : real_eyes) cv::circle(shown, e, 4, cv::Scalar(0, 0, 255), 1);
-        tiles.push_back({shown, cv::format("%s, SSIM %.3f", k == 0 ? "adapted" : k == 1 ? "Procrustes" : "unadapted", ssim[k])});
-      }
-      cv::Mat real_marked = real.clone();
-      for (const auto& e : real_eyes) cv::circle(real_marked, e, 4, cv::Scalar(0, 0, 255), 1);
-      tiles[0].image = real_marked;
-      const cv::Rect crop = head_box(real) & cv::Rect(0, 0, real.cols, real.rows);
-      for (auto& t : tiles) t.image = t.image(crop).clone();
-      render::ContactSheetOptions o;
-      o.columns = 4;
-      o.tile_width = 300;
-      o.tile_height = 360;
-      o.font_scale = 0.45;
-      render::write_png(render::contact_sheet(tiles, o), out_dir + "/" + p + "_45.png");
-      overview.insert(overview.end(), tiles.begin(), tiles.end());
-      r["ssim"] = {{"adapted", ssim[0]}, {"procrustes", ssim[1]}, {"unadapted", ssim[2]}};
-      for (int k = 0; k < 3; ++k) sum[k] += ssim[k];
-      ++n;
-      md += cv::format("| %s | %.3f | %.3f | %.3f | %s |\n", p.c_str(), ssim[0], ssim[1], ssim[2],
-                       eye_source.c_str());
-    } catch (const std::exception& e) {
-      r["error"] = e.what();
-      md += "| " + p + " | failed: " + e.what() + " | | | |\n";
-    }
-    std::cerr << p << "\n";
-    res.push_back(r);
-  }
-  // Overview pages of 6 people (2 per row) to look at them all.
-  for (size_t first = 0; first < overview.size(); first += 24) {
-    render::ContactSheetOptions o;
-    o.columns = 8;
-    o.tile_width = 210;
-    o.tile_height = 250;
-    o.font_scale = 0.4;
-    const std::vector<render::Tile> page(overview.begin() + first,
-                                         overview.begin() + std::min(overview.size(), first + 24));
-    render::write_png(render::contact_sheet(page, o),
-                      out_dir + "/overview_" + std::to_string(first / 24) + ".png");
-  }
-  json out = {{"people", people.size()}, {"measured", n}, {"results", res}};
-  if (n > 0) {
-    out["mean_ssim"] = {{"adapted", sum[0] / n}, {"procrustes", sum[1] / n}, {"unadapted", sum[2] / n}};
-    md += cv::format("| **mean (%d)** | **%.3f** | %.3f | %.3f | |\n", n, sum[0] / n, sum[1] / n,
-                     sum[2] / n);
-  }
-  bench::write_report(out_dir, "frmdb_views", out, md);
-  return 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -622,8 +403,8 @@ int main(int argc, char** argv) {
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "sim")
       return run_sim(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
-    if (mode == "frmdb" && argc > 3) return run_frmdb(argv[2], argv[3]);
-    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] | frmdb DIR OUTDIR  [--no-photo-masks]\n";
+    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] [--no-photo-masks]\n"
+                 "(real photos: real_views_bench)\n";
     return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";

@@ -101,15 +101,17 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
 
 namespace {
 
-// In place on CV_32FC3 BGR (0..1): Lab of each pixel mapped to the average statistics.
+// In place on CV_32FC3 BGR (0..1): Lab of each pixel of the side photo mapped to the front
+// photo's statistics. The front photo is the reference and stays as it is: the view at the front
+// camera gives it back, and a composited frame meets the live front camera's colours.
 void map_lab(cv::Mat& bgr01, const ColourMatch& m, int source) {
+  if (source == 0) return;
   cv::Mat lab;
   cv::cvtColor(bgr01, lab, cv::COLOR_BGR2Lab);
   std::vector<cv::Mat> ch;
   cv::split(lab, ch);
   for (int k = 0; k < 3; ++k) {
-    const double target_mean = 0.5 * (m.mean[0][k] + m.mean[1][k]);
-    const double target_std = 0.5 * (m.stddev[0][k] + m.stddev[1][k]);
+    const double target_mean = m.mean[0][k], target_std = m.stddev[0][k];
     const double s = m.stddev[source][k];
     const double gain = s > 1e-6 ? std::clamp(target_std / s, 0.67, 1.5) : 1.0;
     ch[k].convertTo(ch[k], CV_32F, gain, target_mean - gain * m.mean[source][k]);

@@ -35,8 +35,8 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
                          const capture::RigCalibration& rig, const std::array<cv::Mat, 2>& depth,
                          const std::array<cv::Mat, 2>& photos);
 
-// `photo` (8-bit BGR) of `source` (0 front, 1 side) mapped to the average Lab statistics of
-// `match`; a copy of the photo when match.samples < kMinSamples.
+// `photo` (8-bit BGR) of `source` (0 front, 1 side) mapped to the front photo's Lab statistics
+// in `match` (the front photo itself is returned as it is); a copy of the photo when match.samples < kMinSamples.
 constexpr int kMinSamples = 20;
 cv::Mat equalized(const cv::Mat& photo, const ColourMatch& match, int source);
 

@@ -85,6 +85,30 @@ double feather_band(const SynthesisOptions& o) {
   return std::max(std::sqrt(2.0) * o.feather_deg * M_PI / 180, 1e-6);
 }
 
+// What the View blend adds to cos0 - cos1 for the new view `camera`: view_gain times how much
+// closer the view's direction is to the front camera's than to the side camera's (cosines of
+// the angles at the head origin); 0 for the other blends.
+double view_bias(const capture::RigCalibration& rig, const capture::CameraModel& camera,
+                 const SynthesisOptions& o) {
+  if (o.blend != Blend::View) return 0;
+  const Eigen::Vector3d view = -capture::view_direction(camera);
+  return o.front_preference + o.view_gain * (view.dot(-capture::view_direction(rig.front)) -
+                                             view.dot(-capture::view_direction(rig.side)));
+}
+
+// Facing cosine over which source i's share rises to 1 (a grazing sample is stretched). Under
+// the View blend it narrows as the new view nears that camera, since the stretch goes away
+// there (at the camera's own viewpoint a grazing sample is exactly the photo's pixel); never
+// wider than 0.1, which order_triangles' "whole" test assumes.
+double facing_ramp(const capture::CameraModel& source, const capture::CameraModel& camera,
+                   const SynthesisOptions& o) {
+  constexpr double kRamp = 0.1;
+  if (o.blend != Blend::View) return kRamp;
+  const double closeness = std::clamp(
+      capture::view_direction(camera).dot(capture::view_direction(source)), 0.0, 1.0);
+  return std::max(kRamp * (1 - std::pow(closeness, 8)), 1e-4);
+}
+
 // The synthesis fragment shader specialised for the rig's source cameras and the options.
 std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility,
                           bool weighted, int only_source) {
@@ -140,12 +164,34 @@ void upload_lut(const cv::Mat& grid, GLuint& tex) {
 
 }  // namespace
 
+Blend parse_blend(const std::string& name) {
+  if (name == "view") return Blend::View;
+  if (name == "pick") return Blend::Pick;
+  if (name == "weighted") return Blend::Weighted;
+  throw std::invalid_argument("blend must be view, pick or weighted, got '" + name + "'");
+}
+
+const char* blend_name(Blend blend) {
+  switch (blend) {
+    case Blend::View: return "view";
+    case Blend::Pick: return "pick";
+    case Blend::Weighted: return "weighted";
+  }
+  return "?";
+}
+
+double photographed_side_sign(const capture::RigCalibration& photo_rig) {
+  return photo_rig.side.cam_from_head.inverse().translation().x() >= 0 ? 1.0 : -1.0;
+}
+
 void SynthesisOptions::check() const {
   auto bad = [](const std::string& field) {
     throw std::invalid_argument("new view options: " + field);
   };
   if (!(feather_deg >= 0 && feather_deg <= 45)) bad("feather_deg must be in 0..45");
   if (!(weighted_power > 0 && weighted_power <= 16)) bad("weighted_power must be in (0, 16]");
+  if (!(view_gain >= 0 && view_gain <= 10)) bad("view_gain must be in 0..10");
+  if (!(std::abs(front_preference) <= 2)) bad("front_preference must be in -2..2");
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
     bad("visibility_tolerance_mm must be in 0..100");
 }
@@ -162,7 +208,17 @@ struct ViewSynthesizer::Impl {
   // The element buffer in TriangleClass order, `class_count` indices of each, for the options
   // in `ordered_for` (the blend and visibility settings; none: mesh order, all kTested).
   std::optional<SynthesisOptions> ordered_for;
+  double ordered_bias = 0;  // the view bias the element buffer was sorted for
   std::array<GLsizei, 4> class_count{};
+  // Per triangle (mesh order), what its class depends on; made for `facts_for`.
+  struct TriangleFacts {
+    std::array<bool, 2> whole{};  // the source's share is exactly 1 over the triangle
+    bool unoccluded = false;      // no depth map occludes it
+    std::array<double, 2> lead{INFINITY, INFINITY};        // min over corners of cos_i - cos_other
+    std::array<double, 2> max_cos{-INFINITY, -INFINITY};  // max over corners of cos_i
+  };
+  std::vector<TriangleFacts> facts;
+  std::optional<SynthesisOptions> facts_for;
   capture::RigCalibration rig;
   SourceGl src[2];
   bool has_photos = false;
@@ -200,18 +256,13 @@ struct ViewSynthesizer::Impl {
   void render_source_depth(int i);
   void find_footprints();
   void upload_seen();
-  void order_triangles(const SynthesisOptions& o);
+  void triangle_facts(const SynthesisOptions& o);
+  void order_triangles(const SynthesisOptions& o, double bias);
   void upload_photos(const cv::Mat& front, const cv::Mat& side);
   void match_colours();
   void equalize_photos();
   void source_uniforms(GLuint prog);
   GLuint view_program(Visibility visibility, bool weighted, int only_source);
-  // Whether the element buffer's classes were made for options that sort like `o`.
-  bool same_classes(const SynthesisOptions& o) const {
-    return ordered_for && ordered_for->blend == o.blend &&
-           ordered_for->feather_deg == o.feather_deg &&
-           ordered_for->visibility_tolerance_mm == o.visibility_tolerance_mm;
-  }
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -307,8 +358,10 @@ void ViewSynthesizer::Impl::upload_seen() {
   glBindVertexArray(0);
 }
 
-// Sorts the element buffer by TriangleClass for the options `o`. What kViewFragment computes
-// for a surface point does not depend on the view: the facing cosines, the photo positions and
+// What each triangle's TriangleClass depends on, for the options `o` (kept in `facts`); then
+// order_triangles sorts the element buffer by class for the view's bias. What kViewFragment
+// computes for a surface point depends on the view only through the view bias of the View
+// blend (a constant per view): the facing cosines, the photo positions and
 // the occlusion test against the sources' depth maps are all fixed by the mesh and the rig. So
 // triangles where it is provably one photo alone (kFrontOnly / kSideOnly: one texture fetch),
 // or where neither depth map occludes the triangle (kUnoccluded: no occlusion fetches) are
@@ -316,7 +369,7 @@ void ViewSynthesizer::Impl::upload_seen() {
 // tests sample each triangle every half source pixel against the 3 x 3 minimum of the depth
 // map and of the subject mask (the shader reads the texels around any point within a pixel of
 // a sample), the sample's depth raised by one step of the sampling grid.
-void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
+void ViewSynthesizer::Impl::triangle_facts(const SynthesisOptions& o) {
   cv::Mat nearest[2], mask[2];
   bool maskable[2];
   for (int i = 0; i < 2; ++i) {
@@ -375,28 +428,46 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
       }
     return r;
   };
-  // The blend's share of the front photo pf is 1 (0) where cos0 - cos1 >= feather (<= -), and
-  // these cosines are interpolated linearly: the corners decide for the whole triangle.
-  const double feather = feather_band(o);
-  const bool weighted = o.blend == Blend::Weighted;
-  std::array<std::vector<std::array<int, 3>>, 4> by_class;
+  facts.clear();
+  facts.reserve(triangles.size());
   for (const auto& t : triangles) {
     const SourceTest s0 = test(t, 0), s1 = test(t, 1);
-    double lead0 = INFINITY, lead1 = INFINITY, cos0 = -INFINITY, cos1 = -INFINITY;
+    TriangleFacts f;
+    f.whole = {s0.whole, s1.whole};
+    f.unoccluded = s0.unoccluded && s1.unoccluded;
     for (int k = 0; k < 3; ++k) {
       const double c0 = facing[t[k]][0], c1 = facing[t[k]][1];
-      lead0 = std::min(lead0, c0 - c1), lead1 = std::min(lead1, c1 - c0);
-      cos0 = std::max(cos0, c0), cos1 = std::max(cos1, c1);
+      f.lead[0] = std::min(f.lead[0], c0 - c1), f.lead[1] = std::min(f.lead[1], c1 - c0);
+      f.max_cos[0] = std::max(f.max_cos[0], c0), f.max_cos[1] = std::max(f.max_cos[1], c1);
     }
-    // Pick: the leading photo alone when it covers the triangle fully. Weighted: a photo alone
-    // only where the other faces away.
-    const bool front_only = s0.whole && (weighted ? cos1 <= 0 : lead0 >= feather);
-    const bool side_only = s1.whole && (weighted ? cos0 <= 0 : lead1 >= feather);
-    const auto c = front_only                       ? TriangleClass::kFrontOnly
-                   : side_only                      ? TriangleClass::kSideOnly
-                   : s0.unoccluded && s1.unoccluded ? TriangleClass::kUnoccluded
-                                                    : TriangleClass::kTested;
-    by_class[int(c)].push_back(t);
+    facts.push_back(f);
+  }
+  facts_for = o;
+  ordered_for.reset();
+}
+
+// The blend's share of the front photo pf is 1 (0) where cos0 - cos1 + bias >= feather (<= -),
+// and these cosines are interpolated linearly: the corners decide for the whole triangle.
+void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o, double bias) {
+  if (!facts_for || facts_for->visibility_tolerance_mm != o.visibility_tolerance_mm)
+    triangle_facts(o);
+  const bool weighted = o.blend == Blend::Weighted;
+  if (ordered_for && (ordered_for->blend == Blend::Weighted) == weighted &&
+      ordered_for->feather_deg == o.feather_deg && ordered_bias == bias)
+    return;
+  const double feather = feather_band(o);
+  std::array<std::vector<std::array<int, 3>>, 4> by_class;
+  for (size_t k = 0; k < triangles.size(); ++k) {
+    const TriangleFacts& f = facts[k];
+    // Pick / view: the leading photo alone when it covers the triangle fully. Weighted: a photo
+    // alone only where the other faces away.
+    const bool front_only = f.whole[0] && (weighted ? f.max_cos[1] <= 0 : f.lead[0] + bias >= feather);
+    const bool side_only = f.whole[1] && (weighted ? f.max_cos[0] <= 0 : f.lead[1] - bias >= feather);
+    const auto c = front_only     ? TriangleClass::kFrontOnly
+                   : side_only    ? TriangleClass::kSideOnly
+                   : f.unoccluded ? TriangleClass::kUnoccluded
+                                  : TriangleClass::kTested;
+    by_class[int(c)].push_back(triangles[k]);
   }
   std::vector<std::array<int, 3>> sorted;
   for (int k = 0; k < 4; ++k) {
@@ -409,6 +480,7 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o) {
                   sorted.data());
   glBindVertexArray(0);
   ordered_for = o;
+  ordered_bias = bias;
 }
 
 // Raw photo textures updated in place; a CPU copy is kept for the colour match.
@@ -518,6 +590,7 @@ void ViewSynthesizer::set_mesh(const model::TriMesh& mesh) {
   impl_->vertices = mesh.vertices;
   impl_->triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   impl_->ordered_for.reset();  // mesh order
+  impl_->facts_for.reset();
   impl_->normals = gl::vertex_normals(mesh);
   impl_->find_footprints();
   for (int i = 0; i < 2; ++i) impl_->render_source_depth(i);
@@ -555,6 +628,7 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
     cv::erode(masks[i] != 0, impl_->src[i].mask, cv::Mat());  // 3x3: one pixel
   }
   impl_->ordered_for.reset();  // the masks decide which triangles take one photo alone
+  impl_->facts_for.reset();
   impl_->context.make_current();
   impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
   impl_->equalize_photos();
@@ -598,12 +672,17 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
     const bool weighted = o.blend == Blend::Weighted;
     const double feather = feather_band(o);
+    const double bias = view_bias(m.rig, camera, o);
     auto draw = [&](Visibility visibility, int only_source, GLsizei first, GLsizei count) {
       if (count == 0) return;
       const GLuint p = m.view_program(visibility, weighted, only_source);
       glUseProgram(p);
       glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
+      glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
+      const float ramp[2] = {float(facing_ramp(m.rig.front, camera, o)),
+                             float(facing_ramp(m.rig.side, camera, o))};
+      glUniform1fv(glGetUniformLocation(p, "ramp"), 2, ramp);
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
       glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
       glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
@@ -611,7 +690,8 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
       glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT,
                      reinterpret_cast<const void*>(first * sizeof(GLuint)));
     };
-    const GLuint tex[4] = {o.equalize ? m.src[0].photo_eq : m.src[0].photo,
+    // The front photo is the equalisation's reference (unchanged): its raw texture.
+    const GLuint tex[4] = {m.src[0].photo,
                            o.equalize ? m.src[1].photo_eq : m.src[1].photo, m.src[0].zmap,
                            m.src[1].zmap};
     for (int t = 0; t < 4; ++t) {
@@ -624,7 +704,7 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glFrontFace(GL_CW);  // window y = image row (see gl::clip_from_head)
     glEnable(GL_CULL_FACE);
     const bool sorted = o.per_pixel_visibility && o.skip_unoccluded;
-    if (sorted && !m.same_classes(o)) m.order_triangles(o);
+    if (sorted) m.order_triangles(o, bias);
     glBindVertexArray(m.mesh.vao);
     if (!o.per_pixel_visibility) {
       draw(Visibility::kPerVertex, -1, 0, m.mesh.count);

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <string>
 
 #include <opencv2/core.hpp>
 
@@ -14,13 +15,28 @@ namespace orthoface::render {
 
 // How a visible surface point mixes the two source photos (seed 004 §6).
 enum class Blend {
+  // The seed's pick made view-dependent: the photo whose score cos(normal, camera) +
+  // view_gain * cos(new view, camera) is larger, feathered. The second term is the angle
+  // penalty of view-dependent texture mapping (Debevec et al. 1996; Buehler et al. 2001,
+  // unstructured lumigraph): at the front camera's own viewpoint the front photo wins wherever it
+  // sees the point, at the side camera's the side photo, so each photo comes back unchanged
+  // there, and in between the switch moves with the view instead of staying on the surface
+  // where the normal points halfway.
+  View,
   Pick,      // the photo whose camera the point faces more (larger projected area), feathered
   Weighted,  // both photos, weight = cos(angle between normal and camera)^weighted_power
 };
 
+// "view", "pick" or "weighted" (the command line's names); throws std::invalid_argument naming
+// the text otherwise.
+Blend parse_blend(const std::string& name);
+const char* blend_name(Blend blend);
+
 struct SynthesisOptions {
-  Blend blend = Blend::Pick;
-  double feather_deg = 6;              // Pick: blend over +-this normal angle around the switch
+  Blend blend = Blend::View;
+  double feather_deg = 6;              // View, Pick: blend over +-this normal angle around the switch
+  double view_gain = 2;                // View: weight of the new view's closeness to each camera
+  double front_preference = 0;         // View: added to the front photo's score everywhere
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
   bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion
@@ -42,8 +58,8 @@ struct SynthesisResult {
   int triangles_one_photo = 0, triangles_untested = 0;
 };
 
-// Colour equalisation (Lab mean / std of each photo over the surface both cameras see well,
-// mapped to their average). Computed with the first photos, on a new mesh and when asked
+// Colour equalisation (Lab mean / std of each photo over the surface both cameras see well; the
+// side photo is mapped to the front photo's, which stays as it is). Computed with the first photos, on a new mesh and when asked
 // (ColourUpdate::Recompute, update_colour_match); later photos reuse it.
 struct ColourMatch {
   std::array<cv::Vec3d, 2> mean{}, stddev{};  // Lab (L 0..100) of the front, side samples
@@ -106,6 +122,11 @@ class ViewSynthesizer {
 // plane (pose, principal point and tangential distortion p2), i.e. standing at -x. With
 // side_faces_left == true, `rig` unchanged.
 capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left);
+
+// The sign of the yaw (render::SynthesisOptions, capture::camera_at) that turns a new view
+// toward the side camera of `photo_rig` (the rig as the photos were taken, photo_rig()): +1 when
+// that camera stands at +x of the head frame (the subject's left), -1 at -x.
+double photographed_side_sign(const capture::RigCalibration& photo_rig);
 
 // The side photo's subject mask from vision's profile (the side ViewObservation's boundary,
 // forehead to throat, in the image as given): on each row the profile spans, the pixels from the

@@ -76,6 +76,8 @@ uniform sampler2DShadow zmap1;
 uniform vec2 zrange[2];  // near far of each source depth map
 uniform float tol_mm;
 uniform float feather;
+uniform float view_bias;  // View blend: the new view's preference for the front photo (0: pick)
+uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
 uniform float power;
 uniform vec3 fill;
 layout(location = 0) out vec4 color;
@@ -96,7 +98,7 @@ float inside(vec2 uv, vec2 s) {
 // `perspective` is a literal at each call, so the unused side folds away.
 float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cosine,
                    sampler2DShadow zmap, float vertex_seen) {
-  float a = smoothstep(0.0, 0.1, cosine) * inside(uv, size[i]);
+  float a = smoothstep(0.0, ramp[i], cosine) * inside(uv, size[i]);
   if (perspective) a *= step(0.0, z);
 #if VISIBILITY == 2
   vec2 und = intr[i].zw + intr[i].xy * xy;
@@ -148,7 +150,7 @@ void main() {
   float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
   float pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
 #else
-  float pf = smoothstep(-feather, feather, v_cos.x - v_cos.y);  // feather > 0 (see render())
+  float pf = smoothstep(-feather, feather, v_cos.x - v_cos.y + view_bias);  // feather > 0
 #endif
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);

@@ -11,6 +11,7 @@ packages=(
   libopenmpi-dev openmpi-bin
   assimp-utils
   libcgal-dev  # bench/analysis_bench only: exact geodesics as the accuracy reference
+  libdlib-dev libdlib-data  # judge/ only (benchmarks, tests): the real-photo judge
 )
 
 missing=()

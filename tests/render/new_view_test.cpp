@@ -77,18 +77,68 @@ TEST(NewView, ReproducesTheFrontPhotoAtYawZero) {
   EXPECT_GT(psnr(s.front, r.view.image, front_only), 45.0);  // same pixels, same camera
 }
 
+// The view blend at a source camera's own viewpoint gives that photo back wherever it sees the
+// surface; the seed's pick rule gives part of the front view to the side photo (every point
+// facing the side camera more), which is where a depth error shows as a doubled feature.
+TEST(NewView, ViewBlendTakesEachPhotoAtItsOwnCamera) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.source_weights = true;
+  o.equalize = false;
+  for (Blend b : {Blend::View, Blend::Pick}) {
+    o.blend = b;
+    for (int source = 0; source < 2; ++source) {
+      const CameraModel& cam = source == 0 ? s.rig.front : s.rig.side;
+      const SynthesisResult r = synth.render(cam, o);
+      cv::Mat share;
+      cv::extractChannel(r.weights, share, source);
+      const int drawn = cv::countNonZero(r.view.mask);
+      const cv::Mat alone = (share == 255) & r.view.mask;
+      const int own = cv::countNonZero(alone);
+      const double photo_psnr = psnr(source == 0 ? s.front : s.side, r.view.image, alone);
+      std::printf("%s at source %d: %d of %d pixels from it alone, PSNR %.1f dB\n",
+                  blend_name(b), source, own, drawn, photo_psnr);
+      if (b == Blend::View) {
+        EXPECT_GT(own, drawn * 0.98);  // all but the silhouette's grazing rim
+        EXPECT_GT(photo_psnr, 45.0);   // the same pixels through the same camera
+      } else {
+        EXPECT_LT(own, drawn * 0.9);  // the pick rule hands the outer ring to the other photo
+      }
+    }
+  }
+}
+
+TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
+  for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted}) EXPECT_EQ(parse_blend(blend_name(b)), b);
+  EXPECT_THROW(parse_blend("nearest"), std::invalid_argument);
+  EXPECT_THROW(parse_blend(""), std::invalid_argument);
+  SynthesisOptions o;
+  o.view_gain = -1;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+  o.view_gain = NAN;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
+TEST(NewView, PhotographedSideSignFollowsTheSideCamera) {
+  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.6);
+  EXPECT_EQ(photographed_side_sign(rig), 1.0);                    // side camera at +x
+  EXPECT_EQ(photographed_side_sign(photo_rig(rig, false)), -1.0);  // reflected to -x
+  EXPECT_EQ(photographed_side_sign(photo_rig(rig, true)), 1.0);
+}
+
 TEST(NewView, FortyFiveDegreesMatchesTheTrueView) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   const CameraModel cam = view(s.rig.front, 45);
   const RenderResult truth = render_once(s.textured, cam);
-  for (Blend b : {Blend::Pick, Blend::Weighted}) {
+  for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted}) {
     SynthesisOptions o;
     o.blend = b;
     const RenderResult r = synth.render(cam, o).view;
     EXPECT_EQ(cv::countNonZero(r.mask != truth.mask), 0);
     const double p = psnr(truth.image, r.image, truth.mask), q = ssim(truth.image, r.image, truth.mask);
-    std::printf("ellipsoid 45 deg %s: PSNR %.2f dB SSIM %.4f\n", b == Blend::Pick ? "pick" : "weighted", p, q);
+    std::printf("ellipsoid 45 deg %s: PSNR %.2f dB SSIM %.4f\n", blend_name(b), p, q);
     EXPECT_GT(p, 36.0);
     EXPECT_GT(q, 0.98);
   }
@@ -502,7 +552,7 @@ TEST(NewView, SkippingTheOcclusionTestWhereItCannotFailChangesNoPixel) {
         side_mask.colRange(0, side_mask.cols / 2 - 20).setTo(0);
         synth.set_photo_masks({}, side_mask);
       }
-      for (Blend b : {Blend::Pick, Blend::Weighted})
+      for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted})
         for (double yaw : {-30.0, 0.0, 20.0, 45.0, 70.0}) {
           SynthesisOptions fast, full;
           fast.blend = full.blend = b;

@@ -1,0 +1,269 @@
+// real_views_bench: the real-photo judge (issue 14). Every FRMDB person in DIR (DIR/<id>/Img_33
+// front, Img_53 side from the subject's right, Img_43 / Img_23 the real +-45 degree photos) is
+// reconstructed from Img_33 + Img_53 through the product's pipeline (app::reconstruct) and
+// rendered at yaw +-15, +-30, +-45 the way `orthoface render` does. An independent landmarker,
+// dlib's HOG face detector (one upsampling, the largest face) and its 68-point predictor
+// (judge/face_judge.h), then says:
+//   - whether a face is found in each view;
+//   - the shape error (NME) at +-45 degrees: the view's eye points aligned by a similarity onto
+//     the real photo's, the mean distance over jaw, nose and mouth points / the real outer-eye
+//     distance; the photographed side against Img_43, the other side against Img_23; a view
+//     without a face counts 1.0;
+//   - the baseline: the front photo Img_33 itself scored the same way;
+//   - the yaw-0 view against the front photo and the side camera's yaw against the side photo
+//     (PSNR over the pixels the mesh covers).
+// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G]
+// JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
+// (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
+// OUTDIR outside the repository.
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "app/pipeline.h"
+#include "bench/bench_report.h"
+#include "judge/face_judge.h"
+#include "render/contact_sheet.h"
+#include "render/image_metrics.h"
+#include "render/new_view.h"
+
+namespace {
+
+using namespace orthoface;
+using json = nlohmann::json;
+namespace fs = std::filesystem;
+
+constexpr int kYawsDeg[] = {15, 30, 45};
+constexpr double kIdentical = 99;  // PSNR (dB) reported for identical pixels
+
+// A square around the face (3 face boxes wide), or around the image centre without one.
+cv::Rect head_crop(const cv::Mat& image, const std::optional<judge::FaceFound>& face) {
+  const cv::Point c = face ? (face->box.tl() + face->box.br()) / 2 : cv::Point(image.cols / 2, image.rows / 2);
+  const int half = face ? int(1.1 * face->box.width) : image.rows / 3;
+  return cv::Rect(c.x - half, c.y - half, 2 * half, 2 * half) & cv::Rect(0, 0, image.cols, image.rows);
+}
+
+void draw_points(cv::Mat& image, const std::optional<judge::FaceFound>& face) {
+  if (!face) {
+    cv::putText(image, "no face", {10, 40}, cv::FONT_HERSHEY_SIMPLEX, 1.2, {0, 0, 255}, 2);
+    return;
+  }
+  cv::rectangle(image, face->box, {0, 255, 255}, 1);
+  for (const cv::Point2d& p : face->points) cv::circle(image, p, 2, {0, 255, 0}, cv::FILLED);
+}
+
+struct Options {
+  std::vector<std::string> people;  // empty: all
+  render::Blend blend = render::SynthesisOptions{}.blend;
+  double view_gain = render::SynthesisOptions{}.view_gain;
+  double front_preference = render::SynthesisOptions{}.front_preference;
+};
+
+int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
+  if (!fs::is_directory(dir)) {
+    std::cout << json{{"skipped", "no FRMDB folder at " + dir}}.dump() << "\n";
+    return 0;
+  }
+  if (!judge::predictor_available()) {
+    std::cout << json{{"skipped", std::string("no dlib predictor at ") + judge::kDefaultPredictor}}.dump() << "\n";
+    return 0;
+  }
+  fs::create_directories(out_dir);
+  std::vector<std::string> people;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string id = e.path().filename();
+    if (!e.is_directory() || !fs::exists(e.path() / "Img_33.JPG")) continue;
+    if (opt.people.empty() || std::count(opt.people.begin(), opt.people.end(), id)) people.push_back(id);
+  }
+  std::sort(people.begin(), people.end());
+  const judge::FaceJudge judge;
+  json res = json::array();
+  int found[3] = {0, 0, 0}, views[3] = {0, 0, 0};  // per |yaw|
+  double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY, psnr_side_min = INFINITY;
+  int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
+  std::string md =
+      "| person | faces found (+-15, +-30, +-45) | NME photographed side (baseline) | NME other side "
+      "(baseline) | yaw 0 vs front PSNR | side yaw vs side PSNR |\n|---|---|---|---|---|---|\n";
+  for (const std::string& p : people) {
+    const fs::path d = fs::path(dir) / p;
+    json r = {{"person", p}};
+    try {
+      const cv::Mat front = cv::imread((d / "Img_33.JPG").string());
+      const cv::Mat side = cv::imread((d / "Img_53.JPG").string());
+      const cv::Mat real_near = cv::imread((d / "Img_43.JPG").string());
+      const cv::Mat real_far = cv::imread((d / "Img_23.JPG").string());
+      if (front.empty() || side.empty() || real_near.empty() || real_far.empty())
+        throw std::runtime_error("unreadable photo");
+      app::ReconstructOptions ro;
+      ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
+      const app::Reconstruction rec = app::reconstruct(front, side, ro);
+      ++reconstructed;
+      const bool faces_left = rec.observation.side_faces_left;
+      const capture::RigCalibration rig = render::photo_rig(rec.rig, faces_left);
+      render::ViewSynthesizer synth(rec.mesh, rig, rec.front, rec.side);
+      synth.set_photo_masks({}, render::profile_mask(rec.observation.side, faces_left));
+      render::SynthesisOptions so;
+      so.blend = opt.blend;
+      so.view_gain = opt.view_gain;
+      so.front_preference = opt.front_preference;
+      const double distance = std::max(rec.rig.front.cam_from_head.translation().norm(), 1.0);
+      auto view = [&](double yaw_deg) {
+        return synth.render(capture::camera_at(rec.rig.front, yaw_deg * M_PI / 180, 0, distance), so);
+      };
+      // The photographed side: the yaw sign that turns the view toward the side camera.
+      const double near_sign = render::photographed_side_sign(rig);
+      r["photographed_side_yaw_sign"] = near_sign;
+
+      // Reproduction at the source cameras: the view from the front camera against the front
+      // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
+      // front's) against the side photo, over the pixels the mesh covers.
+      render::SynthesisOptions with_weights = so;
+      with_weights.source_weights = true;
+      const render::SynthesisResult v0 = synth.render(rig.front, with_weights);
+      cv::Mat front_share;
+      cv::extractChannel(v0.weights, front_share, 0);
+      const cv::Mat front_sees = (front_share > 0) & v0.view.mask;  // the front photo sees it
+      r["yaw0_pixels_not_from_front"] = 1.0 - double(cv::countNonZero(front_share == 255 & v0.view.mask)) /
+                                                  std::max(1, cv::countNonZero(v0.view.mask));
+      render::SynthesisOptions raw = with_weights;
+      raw.equalize = false;
+      const render::SynthesisResult v90 = synth.render(rig.side, raw);
+      cv::Mat side_share;
+      cv::extractChannel(v90.weights, side_share, 1);
+      const cv::Mat side_sees = (side_share > 0) & v90.view.mask;
+      // Identical images have infinite PSNR: reported as kIdentical.
+      const double psnr_front = std::min(render::psnr(rec.front, v0.view.image, front_sees), kIdentical);
+      const double psnr_side = std::min(render::psnr(rec.side, v90.view.image, side_sees), kIdentical);
+      cv::Mat error0;  // |yaw-0 view - front photo| x 4 where the mesh is drawn
+      cv::absdiff(rec.front, v0.view.image, error0);
+      error0 = error0 * 4;
+      error0.setTo(cv::Scalar(60, 0, 0), v0.view.mask == 0);
+      psnr_front_min = std::min(psnr_front_min, psnr_front);
+      psnr_side_min = std::min(psnr_side_min, psnr_side);
+      r["psnr_yaw0_vs_front"] = psnr_front;
+      r["psnr_side_yaw_vs_side"] = psnr_side;
+
+      const auto real_near_face = judge.largest_face(real_near);
+      const auto real_far_face = judge.largest_face(real_far);
+      const auto front_face = judge.largest_face(front);
+      std::vector<render::Tile> tiles;
+      cv::Mat shown = front.clone();
+      draw_points(shown, front_face);
+      const cv::Rect crop = head_crop(front, front_face);  // the views keep the front's framing
+      tiles.push_back({shown(crop).clone(), p + " front (Img_33)"});
+      std::string found_text;
+      double nme[2] = {NAN, NAN}, base[2] = {NAN, NAN};
+      for (int k = 0; k < 3; ++k) {
+        int n_found = 0;
+        for (int side_k = 0; side_k < 2; ++side_k) {  // 0 photographed side, 1 other side
+          const double yaw = kYawsDeg[k] * near_sign * (side_k == 0 ? 1 : -1);
+          const render::SynthesisResult v = view(yaw);
+          const auto face = judge.largest_face(v.view.image);
+          ++views[k];
+          if (face) ++found[k], ++n_found;
+          r["found"][std::to_string(int(yaw))] = bool(face);
+          if (kYawsDeg[k] == 30) continue;
+          cv::Mat img = v.view.image.clone();
+          draw_points(img, face);
+          tiles.push_back({img(crop).clone(), cv::format("yaw %+d (%s)", int(yaw), side_k == 0 ? "photographed" : "other")});
+          if (kYawsDeg[k] != 45) continue;
+          const auto& real_face = side_k == 0 ? real_near_face : real_far_face;
+          if (!real_face) continue;  // dlib does not annotate this real photo: not scored
+          nme[side_k] = judge::shape_nme_or_miss(face, real_face->points);
+          base[side_k] = judge::shape_nme_or_miss(front_face, real_face->points);
+        }
+        found_text += (k ? ", " : "") + std::to_string(n_found) + "/2";
+      }
+      tiles.push_back({error0(crop).clone(), cv::format("yaw 0 error x4, %.1f dB", psnr_front)});
+      for (int s = 0; s < 2; ++s) {
+        const auto& real_face = s == 0 ? real_near_face : real_far_face;
+        cv::Mat img = (s == 0 ? real_near : real_far).clone();
+        draw_points(img, real_face);
+        tiles.push_back({img(head_crop(img, real_face)).clone(), s == 0 ? "real Img_43" : "real Img_23"});
+        if (std::isnan(nme[s])) continue;
+        nme_sum[s] += nme[s], base_sum[s] += base[s], ++nme_n[s], ++compared[s];
+        if (nme[s] < base[s]) ++better[s];
+      }
+      r["nme"] = {{"photographed", nme[0]}, {"other", nme[1]}};
+      r["baseline_nme"] = {{"photographed", base[0]}, {"other", base[1]}};
+      // Order the sheet: front, +-15, +-45 (photographed first), the real photos last.
+      render::ContactSheetOptions co;
+      co.columns = 8;
+      co.tile_width = 260;
+      co.tile_height = 260;
+      co.font_scale = 0.4;
+      render::write_png(render::contact_sheet(tiles, co), (fs::path(out_dir) / (p + "_judge.png")).string());
+      md += cv::format("| %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.1f dB | %.1f dB |\n", p.c_str(),
+                       found_text.c_str(), nme[0], base[0], nme[1], base[1], psnr_front, psnr_side);
+    } catch (const std::exception& e) {
+      r["error"] = e.what();
+      md += "| " + p + " | failed: " + std::string(e.what()) + " | | | | |\n";
+    }
+    std::cerr << p << "\n";
+    res.push_back(r);
+  }
+  json out = {{"people", people.size()}, {"reconstructed", reconstructed}, {"results", res}};
+  for (int k = 0; k < 3; ++k)
+    out["faces_found"][std::to_string(kYawsDeg[k])] = {{"found", found[k]}, {"views", views[k]}};
+  const char* side_name[2] = {"photographed", "other"};
+  for (int s = 0; s < 2; ++s)
+    if (nme_n[s] > 0)
+      out["nme_45"][side_name[s]] = {{"mean", nme_sum[s] / nme_n[s]},
+                                     {"baseline_mean", base_sum[s] / nme_n[s]},
+                                     {"better_than_baseline", better[s]},
+                                     {"scored", compared[s]}};
+  out["psnr_yaw0_vs_front_min"] = psnr_front_min;
+  out["psnr_side_yaw_vs_side_min"] = psnr_side_min;
+  md += cv::format("\nFaces found: +-15 %d/%d, +-30 %d/%d, +-45 %d/%d.\n", found[0], views[0],
+                   found[1], views[1], found[2], views[2]);
+  for (int s = 0; s < 2; ++s)
+    if (nme_n[s] > 0)
+      md += cv::format("NME at 45 (%s side): %.3f, baseline %.3f, better than the baseline on %d/%d.\n",
+                       side_name[s], nme_sum[s] / nme_n[s], base_sum[s] / nme_n[s], better[s], compared[s]);
+  md += cv::format("Yaw 0 vs the front photo where it sees the head: min PSNR %.1f dB (%.0f = "
+                   "identical); the side camera's view vs the side photo: min %.1f dB.\n",
+                   psnr_front_min, kIdentical, psnr_side_min);
+  bench::write_report(out_dir, "real_views", out, md);
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    std::vector<std::string> pos;
+    Options opt;
+    for (int i = 1; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--people" && i + 1 < argc) {
+        std::stringstream ss(argv[++i]);
+        for (std::string id; std::getline(ss, id, ',');) opt.people.push_back(id);
+      } else if (a == "--front-preference" && i + 1 < argc) {
+        opt.front_preference = std::stod(argv[++i]);
+      } else if (a == "--view-gain" && i + 1 < argc) {
+        opt.view_gain = std::stod(argv[++i]);
+      } else if (a == "--blend" && i + 1 < argc) {
+        opt.blend = render::parse_blend(argv[++i]);
+      } else {
+        pos.push_back(a);
+      }
+    }
+    if (pos.size() != 2) {
+      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G]\n";
+      return 2;
+    }
+    return run(pos[0], pos[1], opt);
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << "\n";
+    return 1;
+  }
+}
