@@ -26,6 +26,9 @@ const Command kDetect{
      {"background-front", true, "F  empty-scene frame of the front camera (background difference)"},
      {"background-side", true, "F  empty-scene frame of the side camera"},
      {"side-camera", true, "left|right  where the side camera stands (default: decided from the image)"},
+     {"landmarker", true, "filters|network  the front features' detector: the seed's filters "
+                               "placed by the profile's rows (default), or a trained 68-point network "
+                               "(MIT weights, vision/models)"},
      {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
     0};
 
@@ -53,6 +56,11 @@ int run_detect(int argc, char** argv) {
     options.side_camera = s == "left" ? vision::SideCamera::Left : vision::SideCamera::Right;
   }
   options.use_haar = args.has("haar");
+  try {
+    options.landmarker = vision::parse_front_landmarker(args.get("landmarker", "filters"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--landmarker: ") + e.what());
+  }
   const cv::Mat front = vision::read_image(args.get("front"));
   const cv::Mat side = vision::read_image(args.get("side"));
   if (args.has("background-front")) options.background_front = vision::read_image(args.get("background-front"));

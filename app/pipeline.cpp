@@ -14,6 +14,7 @@
 #include "model/base_mesh.h"
 #include "model/mesh_io.h"
 #include "vision/landmarks.h"
+#include "vision/registration.h"
 #include "vision/observation_io.h"
 
 namespace orthoface::app {
@@ -36,23 +37,6 @@ double silhouette_width_px(const std::vector<cv::Point2d>& boundary, double v) {
     lo = std::min(lo, u), hi = std::max(hi, u);
   }
   return hi > lo ? hi - lo : 0.0;
-}
-
-// Side rows as a linear function of front rows, from the midline features seen in both views.
-std::pair<double, double> side_row_map(const vision::FaceObservation& obs) {
-  std::vector<std::pair<double, double>> rows;
-  for (const auto& [name, f] : obs.front.features) {
-    if (!vision::is_landmark_name(name) || vision::mirrored_name(name) != name) continue;
-    if (auto it = obs.side.features.find(name); it != obs.side.features.end())
-      rows.push_back({f.px.y, it->second.px.y});
-  }
-  if (rows.empty()) return {1.0, 0.0};
-  double mf = 0, ms = 0;
-  for (auto [f, s] : rows) mf += f / rows.size(), ms += s / rows.size();
-  double sff = 0, sfs = 0;
-  for (auto [f, s] : rows) sff += (f - mf) * (f - mf), sfs += (f - mf) * (s - ms);
-  const double a = (rows.size() >= 2 && sff > 400.0) ? sfs / sff : 1.0;  // spread >= ~20 px
-  return {a, ms - a * mf};
 }
 
 // The ideal rig of seed 004 when no rig file is given, scaled by the average head (see header).
@@ -78,7 +62,8 @@ capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::str
   const double width_mm = 2 * model::generic_half_width(eye_y);
   const double s = width_px / width_mm;
   capture::RigCalibration rig = capture::ideal_rig(obs.front.width, obs.front.height, s);
-  const auto [a, b] = side_row_map(obs);
+  const vision::RowMap map = vision::side_row_map(obs);
+  const double a = map.a, b = map.b;
   if (!(a > 1 / 1.5 && a < 1.5))
     throw std::invalid_argument("inconsistent heights between views: the side photo's midline "
                                 "features are " + std::to_string(a) + " times as far apart as the front's");
@@ -90,8 +75,11 @@ capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::str
   rig.source = "default (no rig file)";
   note = "no rig file: scale assumed from the average head, " + std::to_string(width_mm) +
          " mm wide at eye height = " + std::to_string(width_px) + " px, so " + std::to_string(s) +
-         " px/mm; side photo matched to the front by its midline features (scale " +
-         std::to_string(a) + ", row offset " + std::to_string(b) + " px). Sizes are estimates.";
+         " px/mm; side photo matched to the front by " + std::to_string(map.pairs) +
+         (map.independent ? " midline features found in each photo on its own"
+                          : " midline features whose front rows came from the side photo") +
+         " (scale " + std::to_string(a) + ", row offset " + std::to_string(b) +
+         " px). Sizes are estimates.";
   return rig;
 }
 
@@ -146,6 +134,9 @@ Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
   const double observe_ms = ms_since(t0);
   Reconstruction r = reconstruct_observation(obs, front, side, options);
   r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});
+  r.report.front_landmarker = vision::front_landmarker_name(options.observe.landmarker);
+  for (const std::string& w : obs.warnings)
+    if (w.rfind("front landmarks:", 0) == 0) r.report.front_landmarker = "filters (" + w + ")";
   return r;
 }
 

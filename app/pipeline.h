@@ -35,6 +35,7 @@ struct ReconstructionReport {
                                               // "feature:<name>"
   std::vector<std::string> features_found;    // observed landmark names with 3D data
   std::string scale_note;                     // where the scale came from
+  std::string front_landmarker;               // the front features' detector that ran
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
 };
 

@@ -49,6 +49,7 @@ nlohmann::json report_json(const Reconstruction& r) {
   return {{"format", "orthoface-report"},
           {"version", 1},
           {"scale", rep.scale_note},
+          {"front_landmarker", rep.front_landmarker},
           {"rig_source", r.rig.source},
           // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
           {"photographed_side_yaw_sign",

@@ -25,6 +25,9 @@ Command reconstruct_command() {
            {"out", true, "DIR  output folder (created; files of the same name are replaced)"},
            {"rig", true, "rig.yaml  calibrated or simulated rig (true scale)"},
            {"side-camera", true, "left|right  where the side camera stood (default: detect)"},
+           {"landmarker", true, "filters|network  the front features' detector: the seed's filters "
+                               "placed by the profile's rows (default), or a trained 68-point network "
+                               "(MIT weights, vision/models)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"}},
           0};
@@ -42,6 +45,11 @@ ReconstructOptions options_from(const Args& a) {
   o.observe.side_camera = side == "left"    ? vision::SideCamera::Left
                           : side == "right" ? vision::SideCamera::Right
                                             : vision::SideCamera::Auto;
+  try {
+    o.observe.landmarker = vision::parse_front_landmarker(a.get("landmarker", "filters"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--landmarker: ") + e.what());
+  }
   const std::string method = a.get("method", "interpolate");
   if (method != "nnwa" && method != "interpolate")
     throw std::invalid_argument("--method: expected nnwa or interpolate, got '" + method + "'");

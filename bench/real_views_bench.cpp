@@ -12,7 +12,7 @@
 //   - the baseline: the front photo Img_33 itself scored the same way;
 //   - the yaw-0 view against the front photo and the side camera's yaw against the side photo
 //     (PSNR over the pixels the mesh covers).
-// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G]
+// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network]
 // JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
 // (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
 // OUTDIR outside the repository.
@@ -66,6 +66,7 @@ struct Options {
   render::Blend blend = render::SynthesisOptions{}.blend;
   double view_gain = render::SynthesisOptions{}.view_gain;
   double front_preference = render::SynthesisOptions{}.front_preference;
+  vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
 };
 
 int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
@@ -105,6 +106,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         throw std::runtime_error("unreadable photo");
       app::ReconstructOptions ro;
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
+      ro.observe.landmarker = opt.landmarker;
       const app::Reconstruction rec = app::reconstruct(front, side, ro);
       ++reconstructed;
       const bool faces_left = rec.observation.side_faces_left;
@@ -249,6 +251,8 @@ int main(int argc, char** argv) {
         for (std::string id; std::getline(ss, id, ',');) opt.people.push_back(id);
       } else if (a == "--front-preference" && i + 1 < argc) {
         opt.front_preference = std::stod(argv[++i]);
+      } else if (a == "--landmarker" && i + 1 < argc) {
+        opt.landmarker = vision::parse_front_landmarker(argv[++i]);
       } else if (a == "--view-gain" && i + 1 < argc) {
         opt.view_gain = std::stod(argv[++i]);
       } else if (a == "--blend" && i + 1 < argc) {
@@ -258,7 +262,7 @@ int main(int argc, char** argv) {
       }
     }
     if (pos.size() != 2) {
-      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G]\n";
+      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

@@ -2,7 +2,8 @@
 //   vision_bench speed [reps]          observe() on a 640x480 sim front + side pair (median ms)
 //   vision_bench stages [reps]         median CPU ms of each vision stage on the same pair
 //   (VISION_THREADS=N sets cv::setNumThreads for speed / stages)
-//   vision_bench sim [subjects]        accuracy over sim subjects, ideal rig, 4 conditions
+//   vision_bench sim [subjects] [filters|network]  accuracy over sim subjects, ideal rig, 4
+//                                      conditions, with that front landmarker
 //   vision_bench simshow SEED OUT [COND]  one sim subject: truth (green) vs detection overlays,
 //                                      per-landmark truth / detected px and error
 //   vision_bench frmdb DIR OUT         real FRMDB pairs (Img_33 front, Img_53 side), overlays in OUT
@@ -111,7 +112,9 @@ sim::RigOptions condition(const std::string& name, int seed) {
   return o;
 }
 
-int accuracy(int subjects) {
+int accuracy(int subjects, ov::FrontLandmarker landmarker) {
+  ov::ObserveOptions oo;
+  oo.landmarker = landmarker;
   json out = json::object();
   orthoface::render::Renderer renderer;
   for (const std::string cond : {"ideal", "noise_blur", "roll_yaw", "all"}) {
@@ -122,7 +125,7 @@ int accuracy(int subjects) {
     int worst_seed = -1;
     for (int seed = 0; seed < subjects; ++seed) {
       const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(seed)), condition(cond, seed), renderer);
-      const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
+      const ov::FaceObservation obs = ov::observe(cap.front, cap.side, oo);
       const ot::SimScore s = ot::score(obs, cap);
       for (const auto& [n, e] : s.front_err) per["front:" + n].push_back(e), all.push_back(e);
       for (const auto& [n, e] : s.side_err) per["side:" + n].push_back(e), all.push_back(e);
@@ -314,7 +317,9 @@ int main(int argc, char** argv) {
   try {
     if (mode == "speed") return speed(argc > 2 ? std::stoi(argv[2]) : 50);
     if (mode == "stages") return stages(argc > 2 ? std::stoi(argv[2]) : 30);
-    if (mode == "sim") return accuracy(argc > 2 ? std::stoi(argv[2]) : 20);
+    if (mode == "sim")
+      return accuracy(argc > 2 ? std::stoi(argv[2]) : 20,
+                      ov::parse_front_landmarker(argc > 3 ? argv[3] : "filters"));
     if (mode == "simshow" && argc > 3) return simshow(std::stoi(argv[2]), argv[3], argc > 4 ? argv[4] : "ideal");
     if (mode == "frmdb" && argc > 3) return frmdb(argv[2], argv[3]);
     if (mode == "ibug" && argc > 2) return ibug(argv[2]);
@@ -322,6 +327,6 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
+  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] [filters|network] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
   return 2;
 }

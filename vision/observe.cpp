@@ -17,10 +17,21 @@
 #include "vision/image_prep.h"
 #include "vision/landmarks.h"
 #include "vision/observe_front.h"
+#include "vision/registration.h"
 #include "vision/segment.h"
 #include "vision/side_profile.h"
 
 namespace orthoface::vision {
+
+FrontLandmarker parse_front_landmarker(const std::string& name) {
+  if (name == "filters") return FrontLandmarker::Filters;
+  if (name == "network") return FrontLandmarker::Network;
+  throw std::invalid_argument("front landmarker must be filters or network, got '" + name + "'");
+}
+
+const char* front_landmarker_name(FrontLandmarker landmarker) {
+  return landmarker == FrontLandmarker::Network ? "network" : "filters";
+}
 
 void ObserveOptions::check() const {
   if (!(max_size_ratio >= 1.0 && max_size_ratio <= 10.0))
@@ -121,13 +132,16 @@ void add_front_tragi(FaceObservation& obs) {
 
 // The eye of the side camera's side seen in the profile gives the depth of the eye centre and
 // outer corner (stereo mirrors it to the hidden eye), which the front view alone cannot.
-void add_side_eye(const cv::Mat& side, const SideResult& s, double row_scale, FaceObservation& obs) {
+void add_side_eye(const cv::Mat& side, const SideResult& s, FaceObservation& obs) {
   const std::string name = s.faces_left ? "left" : "right";
   const auto eye = obs.front.features.find("eye_" + name + "_center");
   const double H = s.profile.head_height_px;
   if (eye == obs.front.features.end() || eye->second.mirrored || s.profile.curve.empty() || H <= 0)
     return;
-  const double row = (eye->second.px.y - 0.5) / row_scale;  // index coordinates, side rows
+  // The eye's row in the side photo: the front row through the registration of the two photos
+  // (index coordinates).
+  const RowMap map = side_row_map(obs);
+  const double row = map.a * eye->second.px.y + map.b - 0.5;
   const auto at = std::min_element(s.profile.curve.begin(), s.profile.curve.end(),
                                    [&](cv::Point2d a, cv::Point2d b) {
                                      return std::abs(a.y - row) < std::abs(b.y - row);
@@ -139,7 +153,7 @@ void add_side_eye(const cv::Mat& side, const SideResult& s, double row_scale, Fa
   const FilterContext ctx = make_filter_context(side, *at, H, box);
   const EyeFound e = find_side_eye(ctx, at->x, row, H, behind);
   if (!e.ok) return;
-  // Only the columns are measured here; the rows stay the front's (the shared row).
+  // Only the columns are measured here; the rows are the front's, registered.
   Feature2d c;
   c.px = out_px({e.centre.x, row});
   c.confidence = e.confidence;
@@ -147,7 +161,7 @@ void add_side_eye(const cv::Mat& side, const SideResult& s, double row_scale, Fa
   obs.side.features["eye_" + name + "_center"] = c;
   const auto outer = obs.front.features.find("eye_" + name + "_outer");
   c.px = {out_px(e.corner_image_right).x,
-          outer != obs.front.features.end() ? (outer->second.px.y - 0.5) / row_scale + 0.5 : c.px.y};
+          outer != obs.front.features.end() ? map.a * outer->second.px.y + map.b : c.px.y};
   c.method = "side-eye-component";
   obs.side.features["eye_" + name + "_outer"] = c;
 }
@@ -216,7 +230,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   add_side_ears(s, ears);
   for (auto& [n, f] : ears) f.px = out_px(f.px), obs.side.features[n] = f;
   add_front_tragi(obs);
-  add_side_eye(side, s, row_scale, obs);
+  add_side_eye(side, s, obs);
   return obs;
 }
 

@@ -12,7 +12,18 @@ namespace orthoface::vision {
 // +x), so the face looks toward the image left; Auto = decided from the side image.
 enum class SideCamera { Auto, Left, Right };
 
+// Which detector gives the front view's eyes, brows, nose, mouth and chin.
+enum class FrontLandmarker {
+  Filters,  // seed 004 §4: a position model placed by the side profile's rows, local filters
+  Network,  // a trained 68-point network (vision/face_landmarks68.h, MIT weights) on the face
+            // the Haar cascade or the silhouette gives; the filters where it finds no face
+};
+// "filters" / "network"; throws std::invalid_argument naming the text otherwise.
+FrontLandmarker parse_front_landmarker(const std::string& name);
+const char* front_landmarker_name(FrontLandmarker landmarker);
+
 struct ObserveOptions {
+  FrontLandmarker landmarker = FrontLandmarker::Filters;
   cv::Mat background_front;  // optional empty-scene frames (same size as the photo): silhouettes
   cv::Mat background_side;   // then come from background difference instead of border colours
   SideCamera side_camera = SideCamera::Auto;

@@ -1,5 +1,9 @@
 #include "vision/observe_front.h"
 
+#include <optional>
+
+#include "vision/face_landmarks68.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -81,6 +85,83 @@ void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& f
   }
 }
 
+
+// The trained network's 68 points (iBUG layout; image-left = the subject's right) as the front
+// features, in index coordinates. Image-left eye 36-41, image-right eye 42-47, brows 17-21 and
+// 22-26, nose 27-35, mouth 48-67, chin 8.
+const std::pair<const char*, int> kNetworkPoints[] = {
+    {"eye_right_outer", 36}, {"eye_right_inner", 39}, {"eye_left_inner", 42},
+    {"eye_left_outer", 45},  {"brow_right_outer", 17}, {"brow_right_center", 19},
+    {"brow_right_inner", 21}, {"brow_left_inner", 22}, {"brow_left_center", 24},
+    {"brow_left_outer", 26}, {"mouth_right", 48},     {"mouth_left", 54},
+    {"alar_right", 31},      {"alar_left", 35},       {"nose_bridge", 27},
+    {"nose_tip", 30},        {"subnasale", 33},       {"lip_upper", 51},
+    {"lip_lower", 57},       {"chin_bottom", 8}};
+
+// The chin (its most forward point, seed 004's profile chin) lies this share of the way from
+// the lower lip down to the chin's bottom (sim heads: 0.84).
+constexpr double kChinShare = 0.8;
+
+// A square around where the face should be in the head blob, for when the Haar cascade finds
+// none: centred on the boundary's middle at 60 % of its height, 0.8 head widths wide.
+cv::Rect2d face_guess(const FrontBoundary& fb) {
+  const double top = fb.top_row, bottom = fb.bottom_row, h = bottom - top;
+  const double row = top + 0.45 * h;
+  const double l = boundary_x(fb.left, row), r = boundary_x(fb.right, row);
+  const double w = 0.8 * (r - l);
+  return {0.5 * (l + r) - w / 2, top + 0.6 * h - w / 2, w, w};
+}
+
+// Replaces the filters' eyes, brows, nose, mouth, chin and midline rows by the network's, and
+// the centre line by the one through its symmetric pairs. Leaves `ff` as it was (with a warning)
+// when the weights cannot be read or no plausible face is found.
+void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
+                       FrontFeatures& ff, std::vector<std::string>& warn) {
+  static const std::optional<FaceLandmarker68> net = []() -> std::optional<FaceLandmarker68> {
+    try {
+      return FaceLandmarker68(default_model_dir());
+    } catch (const std::runtime_error&) {
+      return std::nullopt;
+    }
+  }();
+  if (!net) {
+    warn.push_back("front landmarks: the network's weights are missing (" + default_model_dir() +
+                   "); the filters' features are used");
+    return;
+  }
+  std::optional<FaceLandmarks68> found = net->detect(front, o.haar_dir, 3);
+  if (!found) found = net->detect_in(front, face_guess(fb), 6);
+  const auto& p = found->points;
+  const double row = 0.5 * (p[36].y + p[45].y);
+  const double head_w = boundary_x(fb.right, row) - boundary_x(fb.left, row);
+  const double eyes_w = cv::norm(p[45] - p[36]);
+  const bool inside = p[36].x > boundary_x(fb.left, row) && p[45].x < boundary_x(fb.right, row);
+  if (!(found->movement_px < 0.05 * eyes_w && eyes_w > 0.3 * head_w && eyes_w < 0.9 * head_w && inside)) {
+    warn.push_back("front landmarks: the network found no plausible face; the filters' features are used");
+    return;
+  }
+  const cv::Point2d half(0.5, 0.5);  // network points: continuous, origin at the pixel corner
+  auto feature = [&](cv::Point2d q) {
+    Feature2d f;
+    f.px = q - half;
+    f.confidence = 0.9;
+    f.method = "network-68";
+    return f;
+  };
+  for (const auto& [name, k] : kNetworkPoints) ff.features[name] = feature(p[k]);
+  cv::Point2d eye_r(0, 0), eye_l(0, 0);
+  for (int k = 0; k < 6; ++k) eye_r += p[36 + k] / 6.0, eye_l += p[42 + k] / 6.0;
+  ff.features["eye_right_center"] = feature(eye_r);
+  ff.features["eye_left_center"] = feature(eye_l);
+  ff.features["chin"] = feature(p[57] + kChinShare * (p[8] - p[57]));
+  // Centre line through the midpoints of the eyes, mouth corners and nose wings, roll from the eyes.
+  const cv::Point2d mid = ((eye_r + eye_l) / 2 + (p[48] + p[54]) / 2 + (p[31] + p[35]) / 2) / 3.0 - half;
+  ff.centre.centre_x = mid.x;
+  ff.centre.centre_y = mid.y;
+  ff.centre.roll_rad = std::atan(-(eye_l.y - eye_r.y) / (eye_l.x - eye_r.x));
+  ff.centre.confidence = 1.0;
+}
+
 }  // namespace
 
 FrontHead segment_front(const cv::Mat& front, const cv::Mat& bg) {
@@ -118,7 +199,8 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   for (auto* side : {&fb.left, &fb.right})
     *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}));
   FrontFeatures ff = front_features(front, fb, rows, H);
-  if (o.use_haar) haar_assist(front, o, ff, warn);
+  if (o.landmarker == FrontLandmarker::Network) network_landmarks(front, fb, o, ff, warn);
+  else if (o.use_haar) haar_assist(front, o, ff, warn);
   for (const auto& w : ff.warnings) warn.push_back(w);
   for (const auto& p : fb.left) obs.front.boundary.push_back(out_px(p));
   for (const auto& p : fb.right) obs.front.boundary.push_back(out_px(p));

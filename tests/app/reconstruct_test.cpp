@@ -89,6 +89,8 @@ TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
   const auto report = nlohmann::json::parse(slurp(*work_ / "norig" / "report.json"));
   EXPECT_NE(report["scale"].get<std::string>().find("no rig file"), std::string::npos);
   EXPECT_EQ(report["rig_source"], "default (no rig file)");
+  EXPECT_EQ(report["front_landmarker"], "filters");
+  EXPECT_TRUE(report["photographed_side_yaw_sign"] == 1.0 || report["photographed_side_yaw_sign"] == -1.0);
 }
 
 TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
@@ -99,6 +101,7 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   expect_clean_error("reconstruct " + ok + " --rig sim/rig.yaml --k 100000", "landmark count");
   expect_clean_error("reconstruct " + ok + " --method best", "--method");
   expect_clean_error("reconstruct " + ok + " --side-camera up", "--side-camera");
+  expect_clean_error("reconstruct " + ok + " --landmarker dlib", "--landmarker");
   std::ofstream(*work_ / "not_image.png") << "this is text";
   expect_clean_error("reconstruct --front not_image.png --side sim/side.png --out bad_out",
                      "not_image.png");

@@ -1,0 +1,49 @@
+// The photo-pair pipeline as a library: how the side photo is registered to the front.
+#include <gtest/gtest.h>
+
+#include "app/pipeline.h"
+#include "sim/head.h"
+#include "sim/rig.h"
+#include "sim/truth_observation.h"
+#include "vision/landmarks.h"
+
+namespace orthoface::app {
+namespace {
+
+// A perfect observation of a sim head whose side photo was taken `shift` rows lower (its whole
+// image moved down): profile and side features `shift` px down.
+vision::FaceObservation shifted_side(double shift) {
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(2), sim::RigOptions{});
+  vision::FaceObservation obs = sim::truth_observation(cap);
+  for (auto& p : obs.side.boundary) p.y += shift;
+  for (auto& [n, f] : obs.side.features) f.px.y += shift;
+  return obs;
+}
+
+// Without a rig the side camera's rows come from the midline features found in both photos: a
+// side photo taken lower is registered by its own features.
+TEST(Pipeline, SidePhotoIsRegisteredByFeaturesFoundInEachPhoto) {
+  const vision::FaceObservation obs = shifted_side(18);
+  const Reconstruction r = reconstruct_observation(obs, {}, {});
+  EXPECT_NEAR(r.rig.side.cy - r.rig.front.cy, 18.0, 0.5) << r.report.scale_note;
+  EXPECT_NE(r.report.scale_note.find("found in each photo on its own"), std::string::npos);
+}
+
+// Front midline rows copied from the profile (the seed's filters) say nothing about the offset:
+// the map they give is the identity whatever the photos' offset (the old, circular registration).
+TEST(Pipeline, FrontRowsCopiedFromTheProfileCannotRegister) {
+  vision::FaceObservation obs = shifted_side(18);
+  for (auto& [n, f] : obs.front.features) {
+    if (!vision::is_landmark_name(n) || vision::mirrored_name(n) != n) continue;
+    const auto s = obs.side.features.find(n);
+    if (s == obs.side.features.end()) continue;
+    f.px.y = s->second.px.y;
+    f.method = "centre-line+profile-row";
+  }
+  const Reconstruction r = reconstruct_observation(obs, {}, {});
+  EXPECT_NEAR(r.rig.side.cy - r.rig.front.cy, 0.0, 0.5);
+  EXPECT_NE(r.report.scale_note.find("came from the side photo"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace orthoface::app
