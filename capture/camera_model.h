@@ -48,10 +48,12 @@ double depth(const CameraModel& camera, const Eigen::Vector3d& p_head);
 // Unit viewing direction of `camera` in the head frame (where it looks).
 Eigen::Vector3d view_direction(const CameraModel& camera);
 
-// Camera that looks at the head-frame origin from yaw / pitch (radians, DESIGN.md: yaw about +y
-// from the front camera toward the side camera, pitch > 0 looks from above), standing
-// `distance_mm` away, image up = head +y as far as the pitch allows. Intrinsics are copied from
-// `intrinsics` (projection, size, fx, fy, cx, cy, distortion).
+// Camera that looks at the head-frame origin from yaw / pitch (radians, DESIGN.md). The yaw
+// convention is physical: yaw > 0 stands at the head frame's +x, the subject's left (the face
+// seems turned to its own right), whichever side a side camera stood on (report.json's
+// photographed_side_yaw_sign says which sign shows the side photo's side); pitch > 0 looks from
+// above. The camera stands `distance_mm` away, image up = head +y as far as the pitch allows.
+// Intrinsics are copied from `intrinsics` (projection, size, fx, fy, cx, cy, distortion).
 // Throws std::invalid_argument for distance_mm <= 0 with a perspective model.
 CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitch_rad,
                       double distance_mm);
