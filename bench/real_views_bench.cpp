@@ -65,7 +65,6 @@ struct Options {
   std::vector<std::string> people;  // empty: all
   render::Blend blend = render::SynthesisOptions{}.blend;
   double view_gain = render::SynthesisOptions{}.view_gain;
-  double front_preference = render::SynthesisOptions{}.front_preference;
   vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
 };
 
@@ -116,7 +115,6 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       render::SynthesisOptions so;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
-      so.front_preference = opt.front_preference;
       const double distance = std::max(rec.rig.front.cam_from_head.translation().norm(), 1.0);
       auto view = [&](double yaw_deg) {
         return synth.render(capture::camera_at(rec.rig.front, yaw_deg * M_PI / 180, 0, distance), so);
@@ -249,8 +247,6 @@ int main(int argc, char** argv) {
       if (a == "--people" && i + 1 < argc) {
         std::stringstream ss(argv[++i]);
         for (std::string id; std::getline(ss, id, ',');) opt.people.push_back(id);
-      } else if (a == "--front-preference" && i + 1 < argc) {
-        opt.front_preference = std::stod(argv[++i]);
       } else if (a == "--landmarker" && i + 1 < argc) {
         opt.landmarker = vision::parse_front_landmarker(argv[++i]);
       } else if (a == "--view-gain" && i + 1 < argc) {

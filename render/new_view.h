@@ -15,13 +15,12 @@ namespace orthoface::render {
 
 // How a visible surface point mixes the two source photos (seed 004 §6).
 enum class Blend {
-  // The seed's pick made view-dependent: the photo whose score cos(normal, camera) +
-  // view_gain * cos(new view, camera) is larger, feathered. The second term is the angle
-  // penalty of view-dependent texture mapping (Debevec et al. 1996; Buehler et al. 2001,
-  // unstructured lumigraph): at the front camera's own viewpoint the front photo wins wherever it
-  // sees the point, at the side camera's the side photo, so each photo comes back unchanged
-  // there, and in between the switch moves with the view instead of staying on the surface
-  // where the normal points halfway.
+  // The seed's pick made view-dependent (view-dependent texture mapping, Debevec et al. 1996;
+  // the angle penalty of Buehler et al. 2001): while the new view is nearer the front camera,
+  // the front photo's score gains view_gain x (cos(view, front) - cos(view, side)), so at the
+  // front camera it wins wherever it sees the point and the front photo comes back unchanged;
+  // past 45 deg the seed's better-facing rule decides, except near the side camera's own
+  // viewpoint, where the side photo comes back (render/new_view.cpp: view_bias).
   View,
   Pick,      // the photo whose camera the point faces more (larger projected area), feathered
   Weighted,  // both photos, weight = cos(angle between normal and camera)^weighted_power
@@ -36,7 +35,6 @@ struct SynthesisOptions {
   Blend blend = Blend::View;
   double feather_deg = 6;              // View, Pick: blend over +-this normal angle around the switch
   double view_gain = 2;                // View: weight of the new view's closeness to each camera
-  double front_preference = 0;         // View: added to the front photo's score everywhere
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
   bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion
