@@ -10,8 +10,9 @@
 //     distance; the photographed side against Img_43, the other side against Img_23; a view
 //     without a face counts 1.0;
 //   - the baseline: the front photo Img_33 itself scored the same way;
-//   - the yaw-0 view against the front photo and the side camera's yaw against the side photo
-//     (PSNR over the pixels the mesh covers).
+//   - the view from each source camera against its photo (PSNR where that photo sees the head);
+//   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
+//     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network]
 // JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
 // (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
@@ -52,6 +53,24 @@ cv::Rect head_crop(const cv::Mat& image, const std::optional<judge::FaceFound>& 
   return cv::Rect(c.x - half, c.y - half, 2 * half, 2 * half) & cv::Rect(0, 0, image.cols, image.rows);
 }
 
+// Vision's front features against the judge's points where the definitions agree: eye corners,
+// mouth corners, brows (dlib's on the brow's upper edge, ours on its middle).
+struct LandmarkGroup {
+  const char* name;
+  std::vector<std::pair<const char*, int>> points;  // our feature, iBUG index
+};
+const LandmarkGroup kGroups[] = {
+    {"eye_corners", {{"eye_right_outer", 36}, {"eye_right_inner", 39}, {"eye_left_inner", 42}, {"eye_left_outer", 45}}},
+    {"mouth_corners", {{"mouth_right", 48}, {"mouth_left", 54}}},
+    {"brows", {{"brow_right_outer", 17}, {"brow_right_center", 19}, {"brow_right_inner", 21},
+               {"brow_left_inner", 22}, {"brow_left_center", 24}, {"brow_left_outer", 26}}}};
+
+double median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
 void draw_points(cv::Mat& image, const std::optional<judge::FaceFound>& face) {
   if (!face) {
     cv::putText(image, "no face", {10, 40}, cv::FONT_HERSHEY_SIMPLEX, 1.2, {0, 0, 255}, 2);
@@ -88,6 +107,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   const judge::FaceJudge judge;
   json res = json::array();
   int found[3] = {0, 0, 0}, views[3] = {0, 0, 0};  // per |yaw|
+  std::vector<double> landmark_err[3];  // per group, all points of all people
+  double landmark_worst[3] = {0, 0, 0};  // per group, the worst point of any person
+  int landmark_missing[3] = {0, 0, 0};   // points vision did not find (or only mirrored)
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY, psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
   std::string md =
@@ -155,6 +177,23 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const auto real_near_face = judge.largest_face(real_near);
       const auto real_far_face = judge.largest_face(real_far);
       const auto front_face = judge.largest_face(front);
+      if (front_face) {  // vision's front landmarks against the judge's, / outer-eye distance
+        const auto& d = front_face->points;
+        const double iod = cv::norm(d[36] - d[45]);
+        for (int g = 0; g < 3; ++g)
+          for (const auto& [name, k] : kGroups[g].points) {
+            const auto it = rec.observation.front.features.find(name);
+            if (it == rec.observation.front.features.end() || it->second.mirrored) {
+              ++landmark_missing[g];
+              continue;
+            }
+            // Observation pixels have their centre at index + 0.5; dlib's points are indices.
+            const double e = cv::norm(it->second.px - cv::Point2d(0.5, 0.5) - d[k]) / iod;
+            landmark_err[g].push_back(e);
+            landmark_worst[g] = std::max(landmark_worst[g], e);
+            r["front_landmarks"][kGroups[g].name][name] = e;
+          }
+      }
       std::vector<render::Tile> tiles;
       cv::Mat shown = front.clone();
       draw_points(shown, front_face);
@@ -222,6 +261,17 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                      {"better_than_baseline", better[s]},
                                      {"scored", compared[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
+  out["front_landmarker"] = vision::front_landmarker_name(opt.landmarker);
+  md += cv::format("\nFront landmarks (%s) against the judge's, fraction of the outer-eye distance, "
+                   "median / worst:", vision::front_landmarker_name(opt.landmarker));
+  for (int g = 0; g < 3; ++g) {
+    out["front_landmarks"][kGroups[g].name] = {{"median", median(landmark_err[g])},
+                                               {"worst", landmark_worst[g]},
+                                               {"not_found", landmark_missing[g]}};
+    md += cv::format(" %s %.3f / %.3f (%d not found);", kGroups[g].name, median(landmark_err[g]),
+                     landmark_worst[g], landmark_missing[g]);
+  }
+  md += "\n";
   out["psnr_side_yaw_vs_side_min"] = psnr_side_min;
   md += cv::format("\nFaces found: +-15 %d/%d, +-30 %d/%d, +-45 %d/%d.\n", found[0], views[0],
                    found[1], views[1], found[2], views[2]);
