@@ -129,8 +129,14 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
                    "); the filters' features are used");
     return;
   }
-  std::optional<FaceLandmarks68> found = net->detect(front, o.haar_dir, 3);
-  if (!found) found = net->detect_in(front, face_guess(fb), 6);
+  std::optional<FaceLandmarks68> found;
+  try {
+    found = net->detect(front, o.haar_dir, 3);
+    if (!found) found = net->detect_in(front, face_guess(fb), 6);
+  } catch (const std::invalid_argument&) {  // a silhouette too thin to hold a face crop
+    warn.push_back("front landmarks: no face crop in the head's silhouette; the filters' features are used");
+    return;
+  }
   const auto& p = found->points;
   const double row = 0.5 * (p[36].y + p[45].y);
   const double head_w = boundary_x(fb.right, row) - boundary_x(fb.left, row);
