@@ -11,6 +11,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "model/evaluate.h"
 #include "model/mesh_io.h"
 #include "render/renderer.h"
@@ -32,22 +33,6 @@ Command eval_command() {
           {{"truth", true, "SIMDIR|MESH  folder from `orthoface simulate` or a mesh file"},
            {"range", true, "MM  error that saturates the colours (default 3)"}},
           1};
-}
-
-Landmarks read_landmarks(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error("cannot read " + path);
-  Landmarks out;
-  try {
-    const nlohmann::json j = nlohmann::json::parse(f);
-    for (const auto& [name, v] : j.at("landmarks").items()) {
-      const auto& p = v.at("xyz_mm");
-      out[name] = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": malformed landmarks (" + std::string(e.what()) + ")");
-  }
-  return out;
 }
 
 cv::Mat error_picture(const model::TriMesh& colored, const capture::CameraModel& front) {

@@ -66,4 +66,8 @@ Reconstruction reconstruct_observation(const vision::FaceObservation& observatio
 // the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 
+// The named landmarks of a landmarks.json that write_reconstruction wrote (head frame, mm).
+// Throws std::runtime_error naming the file when it cannot be read or is malformed.
+std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
+
 }  // namespace orthoface::app

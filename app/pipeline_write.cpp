@@ -94,4 +94,20 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   }
 }
 
+std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot read " + path);
+  std::map<std::string, Eigen::Vector3d> out;
+  try {
+    const nlohmann::json j = nlohmann::json::parse(f);
+    for (const auto& [name, v] : j.at("landmarks").items()) {
+      const auto& p = v.at("xyz_mm");
+      out[name] = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(path + ": malformed landmarks (" + std::string(e.what()) + ")");
+  }
+  return out;
+}
+
 }  // namespace orthoface::app

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -14,8 +15,10 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "capture/camera_model.h"
 #include "model/mesh_io.h"
+#include "model/symmetry.h"
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
 #include "render/textured_export.h"
@@ -45,6 +48,11 @@ Command render_command() {
            {"background", true, "COLOR  black, white, grey, #RRGGBB, R,G,B or transparent (PNG)"},
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
+           {"no-float", false, "blend the photos as projected, without aligning them by optical "
+                               "flow first (floating textures)"},
+           {"mirror", false, "colour the side the side camera never saw from the side photo "
+                             "mirrored about the face's mid-plane (landmarks.json) as well as "
+                             "the front photo (default: the front photo alone)"},
            {"export", true, "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
                             ".png), .glb (texture embedded) or .ply (vertex colours)"},
            {"o", true, "FILE  output image (.png, .jpg, .bmp); replaced if it exists"}},
@@ -91,6 +99,7 @@ struct Folder {
   capture::RigCalibration rig;  // where the photos were taken (render::photo_rig)
   cv::Mat front, side;
   cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
+  std::optional<Eigen::Vector4d> mid_plane;  // from landmarks.json (none: no mirrored side)
 };
 
 Folder read_folder(const fs::path& dir) {
@@ -118,6 +127,8 @@ Folder read_folder(const fs::path& dir) {
         obs.side.height == f.side.rows)
       f.side_mask = render::profile_mask(obs.side, obs.side_faces_left);
   }
+  if (fs::exists(dir / "landmarks.json"))
+    f.mid_plane = model::mid_sagittal_plane(read_landmarks((dir / "landmarks.json").string()));
   return f;
 }
 
@@ -225,6 +236,13 @@ int run_render(int argc, char** argv) {
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   render::ViewSynthesizer synth(f.mesh, f.rig, f.front, f.side);
   synth.set_photo_masks({}, f.side_mask);
+  if (a.has("mirror")) {
+    if (!f.mid_plane)
+      throw std::invalid_argument("--mirror: " + a.positional[0] +
+                                  " has no landmarks.json with left / right feature pairs");
+    synth.set_mirror_plane(f.mid_plane);
+  }
+  o.float_textures = !a.has("no-float");
   if (!turntable) {
     const auto r = synth.render(view_camera(f.rig.front, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);

@@ -197,6 +197,9 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     const double t1 = capture::monotonic_now_s();
     render::SynthesisOptions image_only;
     image_only.depth = false;  // the output shows the image; depth readback would cost a frame
+    // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
+    // much for a live frame on two cores; the offline render and batch use them.
+    image_only.float_textures = false;
     view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only).view.image;
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {

@@ -13,7 +13,7 @@
 //   - the view from each source camera against its photo (PSNR where that photo sees the head);
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
 //     brows: median and worst point / outer-eye distance, points not found).
-// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network]
+// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network] [--no-float] [--mirror]
 // JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
 // (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
 // OUTDIR outside the repository.
@@ -33,6 +33,7 @@
 #include "app/pipeline.h"
 #include "bench/bench_report.h"
 #include "judge/face_judge.h"
+#include "model/symmetry.h"
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
@@ -85,6 +86,8 @@ struct Options {
   render::Blend blend = render::SynthesisOptions{}.blend;
   double view_gain = render::SynthesisOptions{}.view_gain;
   vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
+  bool float_textures = render::SynthesisOptions{}.float_textures;
+  bool mirror = false;  // the unphotographed side from the mirrored side photo
 };
 
 int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
@@ -134,7 +137,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const capture::RigCalibration rig = render::photo_rig(rec.rig, faces_left);
       render::ViewSynthesizer synth(rec.mesh, rig, rec.front, rec.side);
       synth.set_photo_masks({}, render::profile_mask(rec.observation.side, faces_left));
+      if (opt.mirror) synth.set_mirror_plane(model::mid_sagittal_plane(rec.landmarks));
       render::SynthesisOptions so;
+      so.float_textures = opt.float_textures;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
       const double distance = std::max(rec.rig.front.cam_from_head.translation().norm(), 1.0);
@@ -301,6 +306,10 @@ int main(int argc, char** argv) {
         opt.landmarker = vision::parse_front_landmarker(argv[++i]);
       } else if (a == "--view-gain" && i + 1 < argc) {
         opt.view_gain = std::stod(argv[++i]);
+      } else if (a == "--no-float") {
+        opt.float_textures = false;
+      } else if (a == "--mirror") {
+        opt.mirror = true;
       } else if (a == "--blend" && i + 1 < argc) {
         opt.blend = render::parse_blend(argv[++i]);
       } else {
@@ -308,7 +317,7 @@ int main(int argc, char** argv) {
       }
     }
     if (pos.size() != 2) {
-      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network]\n";
+      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network] [--no-float] [--mirror]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

@@ -72,7 +72,8 @@ void BM_TexturedSimHeadImageOnly(benchmark::State& state) {
 // A 640x480 new view (yaw 30, pitch 10) of a sim head from its front / side photos, with source
 // visibility; arg 1 = pick, 2 = weighted, 3 = pick with per-vertex visibility, 4 = pick reading
 // back the image and mask only (no depth), 5 = pick with the per-pixel occlusion test on every
-// triangle (skip_unoccluded off: the same image); the mesh and photos are uploaded once.
+// triangle (skip_unoccluded off: the same image), 6 = pick with floating textures (the two
+// photos aligned by optical flow first); the mesh and photos are uploaded once.
 void BM_NewViewSimHead(benchmark::State& state) {
   const model::TriMesh head = sim_head(4000);
   const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.4);
@@ -85,6 +86,7 @@ void BM_NewViewSimHead(benchmark::State& state) {
   render::ViewSynthesizer synth(bare, rig, front, side);
   render::SynthesisOptions o;
   o.blend = state.range(0) == 2 ? render::Blend::Weighted : render::Blend::Pick;
+  o.float_textures = state.range(0) == 6;
   o.per_pixel_visibility = state.range(0) != 3;
   o.depth = state.range(0) != 4;
   o.skip_unoccluded = state.range(0) != 5;
@@ -195,7 +197,7 @@ BENCHMARK(BM_TexturedEllipsoid)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillise
 BENCHMARK(BM_TexturedEllipsoidReupload)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedSimHead)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedSimHeadImageOnly)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_NewViewWithNewPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_SetPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 

@@ -11,7 +11,9 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "model/symmetry.h"
 #include "render/equalize.h"
+#include "render/floating_textures.h"
 #include "render/gl_util.h"
 #include "render/new_view_shaders.h"
 
@@ -85,44 +87,46 @@ double feather_band(const SynthesisOptions& o) {
   return std::max(std::sqrt(2.0) * o.feather_deg * M_PI / 180, 1e-6);
 }
 
-// How near the new view `camera` is to `source`'s own viewpoint: cos(angle between their
-// directions)^64, 1 at the camera, 0.5 at 8.4 deg, 0.11 at 15 deg, < 0.01 past 25 deg.
-double own_viewpoint(const capture::CameraModel& source, const capture::CameraModel& camera) {
-  const double c = std::clamp(
-      capture::view_direction(camera).dot(capture::view_direction(source)), 0.0, 1.0);
-  return std::pow(c, 64);
+// Unit direction from the head toward camera `c` (its viewing direction reversed).
+Eigen::Vector3d toward(const capture::CameraModel& c) { return -capture::view_direction(c); }
+
+// How near the new view (toward `view`) is to a source's own viewpoint (toward `source`):
+// cos(angle between them)^64, 1 at the camera, 0.5 at 8.4 deg, 0.11 at 15 deg, < 0.01 past 25 deg.
+double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view) {
+  return std::pow(std::clamp(view.dot(source), 0.0, 1.0), 64);
 }
 
-// What the View blend adds to cos0 - cos1 for the new view `camera` (0 for the other blends).
-// The front photo is the reference: while the view is nearer the front camera than the side
-// camera it is preferred by view_gain x the difference of the two cosines (the angle penalty of
-// Buehler et al. 2001). Past 45 deg the seed's rule decides (the better-facing photo: a side
-// photo sampled at a grazing angle is smeared), except near the side camera's own viewpoint,
-// where the side photo is given back.
-double view_bias(const capture::RigCalibration& rig, const capture::CameraModel& camera,
-                 const SynthesisOptions& o) {
+// What the View blend adds to cos0 - cos1 for the new view (0 for the other blends), the side
+// photo seen from `side` (the side camera's direction, or its mirror image's). The front photo is
+// the reference: while the view is nearer the front camera than the side camera it is preferred
+// by view_gain x the difference of the two cosines (the angle penalty of Buehler et al. 2001).
+// Past 45 deg the seed's rule decides (the better-facing photo: a side photo sampled at a grazing
+// angle is smeared), except near the side camera's own viewpoint, where the side photo is given
+// back.
+double view_bias(const Eigen::Vector3d& front, const Eigen::Vector3d& side,
+                 const Eigen::Vector3d& view, const SynthesisOptions& o) {
   if (o.blend != Blend::View) return 0;
-  const Eigen::Vector3d view = -capture::view_direction(camera);
-  const double toward_front = view.dot(-capture::view_direction(rig.front)) -
-                              view.dot(-capture::view_direction(rig.side));
-  return o.view_gain * (std::max(toward_front, 0.0) - own_viewpoint(rig.side, camera));
+  const double toward_front = view.dot(front) - view.dot(side);
+  return o.view_gain * (std::max(toward_front, 0.0) - own_viewpoint(side, view));
 }
 
-// Facing cosine over which source i's share rises to 1 (a grazing sample is stretched). Under
+// Facing cosine over which a source's share rises to 1 (a grazing sample is stretched). Under
 // the View blend it narrows near that camera's own viewpoint, where the stretch goes away (there
 // a grazing sample is exactly the photo's pixel); never wider than 0.1, which
 // order_triangles' "whole" test assumes.
-double facing_ramp(const capture::CameraModel& source, const capture::CameraModel& camera,
+double facing_ramp(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
                    const SynthesisOptions& o) {
   constexpr double kRamp = 0.1;
   if (o.blend != Blend::View) return kRamp;
-  return std::max(kRamp * (1 - own_viewpoint(source, camera)), 1e-4);
+  return std::max(kRamp * (1 - own_viewpoint(source, view)), 1e-4);
 }
 
 // The synthesis fragment shader specialised for the rig's source cameras and the options.
 std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility,
-                          bool weighted, int only_source) {
+                          bool weighted, int only_source, bool sources_out, bool mirror) {
   std::string defines = "#version 330 core\n";
+  if (sources_out) defines += "#define SOURCES_OUT 1\n";
+  if (mirror) defines += "#define MIRROR 1\n";
   defines += "#define VISIBILITY " + std::to_string(int(visibility)) + "\n";
   if (only_source >= 0) defines += "#define ONLY_SOURCE " + std::to_string(only_source) + "\n";
   if (weighted) defines += "#define WEIGHTED 1\n";
@@ -207,7 +211,8 @@ void SynthesisOptions::check() const {
 
 struct ViewSynthesizer::Impl {
   gl::Context context;
-  GLuint view_prog[18] = {};  // by Visibility, weighted and only source; made on first use
+  // By mirror, sources out, Visibility, weighted and only source; made on first use.
+  GLuint view_prog[72] = {};
   GLuint depth_prog = 0, equalize_prog = 0;
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
@@ -271,7 +276,9 @@ struct ViewSynthesizer::Impl {
   void match_colours();
   void equalize_photos();
   void source_uniforms(GLuint prog);
-  GLuint view_program(Visibility visibility, bool weighted, int only_source);
+  GLuint view_program(Visibility visibility, bool weighted, int only_source, bool sources_out,
+                      bool mirror);
+  std::optional<Eigen::Vector4d> mirror_plane;  // set_mirror_plane
 };
 
 // Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
@@ -539,11 +546,14 @@ void ViewSynthesizer::Impl::equalize_photos() {
 }
 
 GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted,
-                                           int only_source) {
-  GLuint& p = view_prog[6 * (only_source + 1) + 2 * int(visibility) + int(weighted)];
+                                           int only_source, bool sources_out, bool mirror) {
+  GLuint& p = view_prog[36 * int(mirror) + 18 * int(sources_out) + 6 * (only_source + 1) +
+                        2 * int(visibility) + int(weighted)];
   if (!p) {
-    p = gl::program(shaders::kViewVertex,
-                    view_fragment(rig, visibility, weighted, only_source).c_str(), "new_view");
+    p = gl::program(
+        shaders::kViewVertex,
+        view_fragment(rig, visibility, weighted, only_source, sources_out, mirror).c_str(),
+        "new_view");
     source_uniforms(p);
   }
   return p;
@@ -643,6 +653,11 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
   impl_->equalize_photos();
 }
 
+void ViewSynthesizer::set_mirror_plane(const std::optional<Eigen::Vector4d>& plane) {
+  if (plane) model::reflection(*plane);  // checks the plane
+  impl_->mirror_plane = plane;
+}
+
 void ViewSynthesizer::update_colour_match() {
   impl_->context.make_current();
   impl_->match_colours();
@@ -664,34 +679,53 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   gl::check_camera(camera, "new view: camera");
   Impl& m = *impl_;
   m.context.make_current();
-  m.fb.ensure(camera.width, camera.height, {GL_RGBA8, GL_RGBA8});
-  const GLenum bufs[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glDrawBuffers(2, bufs);
+  // Attachments: the blend, the source weights, and for floating textures each photo alone.
+  const bool floating = o.float_textures;
+  const int outputs = floating ? 4 : o.source_weights ? 2 : 1;
+  m.fb.ensure(camera.width, camera.height, {GL_RGBA8, GL_RGBA8, GL_RGBA8, GL_RGBA8});
+  const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                          GL_COLOR_ATTACHMENT3};
+  glDrawBuffers(4, bufs);
   glViewport(0, 0, camera.width, camera.height);
   // Alpha 0 on the background, 1 where the mesh is drawn: the mask without a depth readback.
   const float bg[4] = {float(o.background[2] / 255), float(o.background[1] / 255),
                        float(o.background[0] / 255), 0.0f};
   const float zero[4] = {0, 0, 0, 0}, one = 1.0f;
   glClearBufferfv(GL_COLOR, 0, bg);
-  if (o.source_weights) glClearBufferfv(GL_COLOR, 1, zero);
+  for (int b = 1; b < outputs; ++b) glClearBufferfv(GL_COLOR, b, zero);
   glClearBufferfv(GL_DEPTH, 0, &one);
-  glDrawBuffers(o.source_weights ? 2 : 1, bufs);
+  glDrawBuffers(outputs, bufs);
   const auto nf = gl::near_far(camera, m.mesh.lo, m.mesh.hi);
+  // Floating textures need both photos' colours everywhere, and the mirror image colours
+  // triangles the side photo cannot see: every triangle takes the blend program (no one-photo
+  // or untested classes).
+  const bool mirror = m.mirror_plane.has_value();
+  const bool sorted = o.per_pixel_visibility && o.skip_unoccluded && !floating && !mirror;
+  const Eigen::Matrix4d reflect =
+      mirror ? model::reflection(*m.mirror_plane) : Eigen::Matrix4d::Identity();
+  const Eigen::Vector3d to_view = toward(camera), to_front = toward(m.rig.front),
+                        to_side = toward(m.rig.side),
+                        to_mirror = (reflect.topLeftCorner<3, 3>() * to_side).normalized();
   if (nf[1] > nf[0]) {
     const auto clip = gl::clip_from_head(camera, nf[0], nf[1]);
     const bool weighted = o.blend == Blend::Weighted;
     const double feather = feather_band(o);
-    const double bias = view_bias(m.rig, camera, o);
+    const double bias = view_bias(to_front, to_side, to_view, o);
+    const Eigen::Matrix4f reflect_f = reflect.cast<float>();
     auto draw = [&](Visibility visibility, int only_source, GLsizei first, GLsizei count) {
       if (count == 0) return;
-      const GLuint p = m.view_program(visibility, weighted, only_source);
+      const GLuint p = m.view_program(visibility, weighted, only_source, floating, mirror);
       glUseProgram(p);
       glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
+      glUniformMatrix4fv(glGetUniformLocation(p, "mirror"), 1, GL_FALSE, reflect_f.data());
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
-      const float ramp[2] = {float(facing_ramp(m.rig.front, camera, o)),
-                             float(facing_ramp(m.rig.side, camera, o))};
+      glUniform1f(glGetUniformLocation(p, "view_bias_mirror"),
+                  float(view_bias(to_front, to_mirror, to_view, o)));
+      const float ramp[2] = {float(facing_ramp(to_front, to_view, o)),
+                             float(facing_ramp(to_side, to_view, o))};
       glUniform1fv(glGetUniformLocation(p, "ramp"), 2, ramp);
+      glUniform1f(glGetUniformLocation(p, "ramp_mirror"), float(facing_ramp(to_mirror, to_view, o)));
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
       glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
       glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
@@ -712,7 +746,6 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CW);  // window y = image row (see gl::clip_from_head)
     glEnable(GL_CULL_FACE);
-    const bool sorted = o.per_pixel_visibility && o.skip_unoccluded;
     if (sorted) m.order_triangles(o, bias);
     glBindVertexArray(m.mesh.vao);
     if (!o.per_pixel_visibility) {
@@ -729,17 +762,40 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glBindVertexArray(0);
   }
   SynthesisResult r;
-  if (o.per_pixel_visibility && o.skip_unoccluded && nf[1] > nf[0]) {  // drawn, sorted
+  if (sorted && nf[1] > nf[0]) {
     const auto& n = m.class_count;
     r.triangles_one_photo = int(n[0] + n[1]) / 3, r.triangles_untested = int(n[2]) / 3;
   }
   r.view = gl::read_result(camera.width, camera.height, nf,
                            camera.projection == capture::Projection::Perspective, o.depth);
-  if (o.source_weights) {
-    r.weights.create(camera.height, camera.width, CV_8UC3);
-    glReadBuffer(GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, camera.width, camera.height, GL_RGB, GL_UNSIGNED_BYTE, r.weights.data);
+  auto read_bgra = [&](int attachment) {
+    cv::Mat bgra(camera.height, camera.width, CV_8UC4);
+    glReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
+    glReadPixels(0, 0, camera.width, camera.height, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
+    return bgra;
+  };
+  if (o.source_weights || floating) {
+    cv::cvtColor(read_bgra(1), r.weights, cv::COLOR_BGRA2RGB);  // (front, side, unseen)
   }
+  if (floating && nf[1] > nf[0]) {
+    FloatInputs in;
+    for (int i = 0; i < 2; ++i) {
+      const cv::Mat bgra = read_bgra(2 + i);
+      cv::cvtColor(bgra, in.source[i], cv::COLOR_BGRA2BGR);
+      cv::extractChannel(bgra, in.available[i], 3);
+    }
+    in.weights = r.weights;
+    in.mask = r.view.mask;
+    in.fill = m.match.fill;
+    auto cv3 = [](const Eigen::Vector3d& d) { return cv::Vec3d(d.x(), d.y(), d.z()); };
+    in.alpha = float_alpha(cv3(to_view), cv3(to_front), cv3(to_side));
+    if (mirror)  // the side never photographed: its reference is the mirror image's viewpoint
+      in.alpha = std::max(in.alpha, float_alpha(cv3(to_view), cv3(to_front), cv3(to_mirror)));
+    const FloatResult f = float_textures(in, r.view.image);
+    r.view.image = f.image;
+    r.float_shift_px = f.mean_shift_px;
+  }
+  if (!o.source_weights) r.weights.release();
   return r;
 }
 

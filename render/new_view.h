@@ -2,6 +2,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -41,6 +42,11 @@ struct SynthesisOptions {
                                        // is certain drawn by cheaper programs (the same pixels)
   double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
+  // Floating textures (render/floating_textures.h): the two photos' renderings of the view are
+  // warped onto each other by optical flow before the blend, so a feature the mesh misplaces in
+  // one photo shows once. Costs two flows per view (CPU) and draws every triangle with the
+  // per-pixel test; off, the blend is the shader's alone.
+  bool float_textures = true;
   cv::Scalar background{0, 0, 0};      // BGR 0..255
   bool source_weights = false;         // also return per-pixel source weights (slower)
   bool depth = true;                   // also read back view.depth_mm; false: left empty
@@ -54,6 +60,9 @@ struct SynthesisResult {
   // Per-pixel visibility with skip_unoccluded: triangles drawn with one photo's fetch alone, and
   // without the occlusion test; the rest had the full test. 0 and 0 otherwise.
   int triangles_one_photo = 0, triangles_untested = 0;
+  // With float_textures: mean optical-flow length (px) between the two photos' renderings where
+  // both see the surface, i.e. how far apart the mesh puts the same feature; 0 otherwise.
+  double float_shift_px = 0;
 };
 
 // Colour equalisation (Lab mean / std of each photo over the surface both cameras see well; the
@@ -94,6 +103,12 @@ class ViewSynthesizer {
   // take the background); the mask is eroded by one pixel so bilinear samples stay inside.
   // Kept across set_photos. Throws std::invalid_argument on a wrong size or type.
   void set_photo_masks(const cv::Mat& front, const cv::Mat& side);
+  // The subject's mid-sagittal plane (n, d: n . p = d, head frame, |n| = 1; model::
+  // mid_sagittal_plane): the side of the head the side camera never saw takes the side photo's
+  // colour at its mirror image through the plane, blended with the front photo as the
+  // photographed side is. nullopt (the default) leaves that side to the front photo alone.
+  // Throws std::invalid_argument on a non-unit or non-finite plane.
+  void set_mirror_plane(const std::optional<Eigen::Vector4d>& plane);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).

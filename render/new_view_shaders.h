@@ -32,14 +32,16 @@ uniform mat4 src_from_head[2];
 uniform int persp[2];
 uniform vec3 centre[2];
 uniform vec3 toward[2];
+uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
 out vec3 v_q0;
 out vec3 v_q1;
-out vec2 v_z;
-out vec2 v_cos;
+out vec3 v_q2;  // the side camera's view of the point's mirror image
+out vec3 v_z;
+out vec3 v_cos;
 out vec2 v_seen;
 vec3 q(int i, vec3 pc) { return persp[i] == 1 ? pc : vec3(pc.xy, 1.0); }
-float facing(int i, vec3 n) {
-  return dot(n, persp[i] == 1 ? normalize(centre[i] - pos) : toward[i]);
+float facing(int i, vec3 p, vec3 n) {
+  return dot(n, persp[i] == 1 ? normalize(centre[i] - p) : toward[i]);
 }
 void main() {
   gl_Position = clip_from_head * vec4(pos, 1.0);
@@ -47,23 +49,29 @@ void main() {
   vec3 p1 = (src_from_head[1] * vec4(pos, 1.0)).xyz;
   v_q0 = q(0, p0);
   v_q1 = q(1, p1);
-  v_z = vec2(p0.z, p1.z);
+  vec3 pm = (mirror * vec4(pos, 1.0)).xyz;
+  vec3 p2 = (src_from_head[1] * vec4(pm, 1.0)).xyz;
+  v_q2 = q(1, p2);
+  v_z = vec3(p0.z, p1.z, p2.z);
   float len = length(nrm);
   vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
-  v_cos = vec2(facing(0, n), facing(1, n));
+  v_cos = vec3(facing(0, pos, n), facing(1, pos, n), facing(1, pm, mat3(mirror) * n));
   v_seen = seen;
 })";
 
 // Specialised by defines in front of this source (llvmpipe evaluates both sides of a branch,
 // so choices fixed per rig or per option are made at compile time): VISIBILITY (0: none, for
 // triangles no source depth map occludes; 1: per vertex; 2: per pixel), WEIGHTED (else pick),
-// ONLY_SOURCE (0 or 1: the triangle takes that photo alone; undefined: the blend), PERSPECTIVE0
+// ONLY_SOURCE (0 or 1: the triangle takes that photo alone; undefined: the blend), SOURCES_OUT
+// (also each photo's colour and availability alone, for floating textures), MIRROR (the side
+// photo's mirror image colours the side it never saw), PERSPECTIVE0
 // / 1 and DISTORTED0 / 1 (0 or 1, per source camera).
 inline const char* kViewFragment = R"(
 in vec3 v_q0;
 in vec3 v_q1;
-in vec2 v_z;
-in vec2 v_cos;
+in vec3 v_q2;
+in vec3 v_z;
+in vec3 v_cos;
 in vec2 v_seen;
 uniform vec4 intr[2];   // fx fy cx cy
 uniform vec2 size[2];   // width height
@@ -77,11 +85,17 @@ uniform vec2 zrange[2];  // near far of each source depth map
 uniform float tol_mm;
 uniform float feather;
 uniform float view_bias;  // View blend: the new view's preference for the front photo (0: pick)
+uniform float view_bias_mirror;  // ... against the side photo's mirror image
 uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
+uniform float ramp_mirror;
 uniform float power;
 uniform vec3 fill;
 layout(location = 0) out vec4 color;
 layout(location = 1) out vec4 weights;
+#ifdef SOURCES_OUT
+layout(location = 2) out vec4 source0;  // each photo alone, alpha = its availability
+layout(location = 3) out vec4 source1;
+#endif
 
 vec2 distort(int i, vec2 xy) {  // OpenCV model, as capture::project
   float r2 = dot(xy, xy);
@@ -145,12 +159,37 @@ void main() {
   vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);
   float a0 = c0.a * availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
   float a1 = c1.a * availability(1, PERSPECTIVE1 == 1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
+  float cos1 = v_cos.y, bias = view_bias;
+#ifdef MIRROR
+  // The side never photographed: where the side photo does not see the point, its mirror image
+  // through the mid-sagittal plane as the side photo shows it (faces are nearly symmetric). No
+  // depth test: the mirror image is near, not on, the surface of an asymmetric mesh.
+#if PERSPECTIVE1
+  vec2 xy2 = v_q2.xy / v_q2.z;
+#else
+  vec2 xy2 = v_q2.xy;
+#endif
+#if DISTORTED1
+  vec2 uv2 = intr[1].zw + intr[1].xy * distort(1, xy2);
+#else
+  vec2 uv2 = intr[1].zw + intr[1].xy * xy2;
+#endif
+  vec4 c2 = texture(photo1, uv2 / size[1]);
+  float a2 = c2.a * smoothstep(0.0, ramp_mirror, v_cos.z) * inside(uv2, size[1]);
+  if (PERSPECTIVE1 == 1) a2 *= step(0.0, v_z.z);
+  float m = a2 * (1.0 - a1);
+  float a1m = a1 + m;
+  c1.rgb = a1m > 0.0 ? (a1 * c1.rgb + m * c2.rgb) / a1m : c1.rgb;
+  cos1 = mix(v_cos.z, v_cos.y, step(0.5, a1));
+  bias = mix(view_bias_mirror, view_bias, step(0.5, a1));
+  a1 = a1m;
+#endif
   // Share of the front photo where both see the point (seed 004 §6).
 #ifdef WEIGHTED
-  float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(v_cos.y, 0.0), power);
+  float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(cos1, 0.0), power);
   float pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
 #else
-  float pf = smoothstep(-feather, feather, v_cos.x - v_cos.y + view_bias);  // feather > 0
+  float pf = smoothstep(-feather, feather, v_cos.x - cos1 + bias);  // feather > 0
 #endif
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);
@@ -158,6 +197,10 @@ void main() {
 
   color = vec4(w0 * c0.rgb + w1 * c1.rgb + unseen * fill, 1.0);
   weights = vec4(w0, w1, unseen, 1.0);
+#ifdef SOURCES_OUT
+  source0 = vec4(c0.rgb, step(0.5, a0));
+  source1 = vec4(c1.rgb, step(0.5, a1));
+#endif
 #endif
 })";
 

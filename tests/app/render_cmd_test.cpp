@@ -81,6 +81,23 @@ TEST(RenderCommand, TurntableAndExports) {
   EXPECT_EQ(model::read_mesh((work / "head.obj").string()).triangles.size(), 2u * 64 * 31);
 }
 
+TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {
+  const fs::path work = testing::temp_dir("app_render_mirror");
+  capture::RigCalibration rig;
+  make_folder(work / "rec", rig);
+  std::ofstream(work / "rec" / "landmarks.json")
+      << R"({"landmarks": {"eye_left_outer": {"xyz_mm": [40, 20, 60]},
+           "eye_right_outer": {"xyz_mm": [-40, 20, 60]}, "mouth_left": {"xyz_mm": [25, -50, 70]},
+           "mouth_right": {"xyz_mm": [-25, -50, 70]}}})";
+  ASSERT_EQ(run("render rec --yaw -80 --no-float -o plain.png", work), 0) << slurp(work / "err.txt");
+  ASSERT_EQ(run("render rec --yaw -80 --no-float --mirror -o mirrored.png", work), 0)
+      << slurp(work / "err.txt");
+  const cv::Mat plain = cv::imread((work / "plain.png").string());
+  const cv::Mat mirrored = cv::imread((work / "mirrored.png").string());
+  ASSERT_EQ(plain.size(), mirrored.size());
+  EXPECT_GT(cv::norm(plain, mirrored, cv::NORM_L1) / plain.total(), 1.0);  // the far side changed
+}
+
 TEST(RenderCommand, BadInputGivesOneErrorLine) {
   const fs::path work = testing::temp_dir("app_render_bad");
   capture::RigCalibration rig;
@@ -92,7 +109,8 @@ TEST(RenderCommand, BadInputGivesOneErrorLine) {
         "render rec --yaw 10 --size 100000x100 -o a.png",
         "render rec --yaw 10 --background transparent -o a.jpg", "render rec --yaw 10",
         "render rec --yaw 10 --blend sharp -o a.png", "render rec --yaw 10 -o nodir/a.png",
-        "render rec --export head.stl", "render rec --yaw abc -o a.png"}) {
+        "render rec --export head.stl", "render rec --yaw abc -o a.png",
+        "render rec --yaw 10 --mirror -o a.png"}) {  // no landmarks.json: no mid-plane
     EXPECT_NE(run(args, work), 0) << args;
     const std::string err = slurp(work / "err.txt");
     EXPECT_EQ(err.rfind("error: ", 0), 0u) << args << ": " << err;
@@ -102,6 +120,7 @@ TEST(RenderCommand, BadInputGivesOneErrorLine) {
   }
   ASSERT_EQ(run("render --help", work), 0);
   EXPECT_NE(slurp(work / "out.txt").find("--blend"), std::string::npos);
+  EXPECT_NE(slurp(work / "out.txt").find("--mirror"), std::string::npos);
 }
 
 }  // namespace

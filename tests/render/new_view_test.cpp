@@ -556,6 +556,7 @@ TEST(NewView, SkippingTheOcclusionTestWhereItCannotFailChangesNoPixel) {
         for (double yaw : {-30.0, 0.0, 20.0, 45.0, 70.0}) {
           SynthesisOptions fast, full;
           fast.blend = full.blend = b;
+          fast.float_textures = full.float_textures = false;  // the sorted path
           fast.source_weights = full.source_weights = true;
           full.skip_unoccluded = false;
           const CameraModel cam = view(rig.front, yaw, 10);
@@ -593,6 +594,53 @@ TEST(NewView, SimHeadFortyFiveDegreesWithTheTrueMesh) {
   std::printf("sim head seed 1, 45 deg, true mesh: PSNR %.2f dB SSIM %.4f\n", p, q);
   EXPECT_GT(p, 38.0);
   EXPECT_GT(q, 0.96);
+}
+
+}  // namespace
+}  // namespace orthoface::render
+
+namespace orthoface::render {
+namespace {
+
+// The side never photographed, from the side photo's mirror image: on a symmetric ellipsoid the
+// view from the side camera's mirror-image viewpoint is the side photo flipped left to right.
+TEST(NewView, MirroredSidePhotoColoursTheSideNeverPhotographed) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.source_weights = true;
+  o.float_textures = false;
+  const double far_side = -90 * photographed_side_sign(s.rig);
+  const CameraModel cam = view(s.rig.front, far_side);
+  auto side_share = [](const SynthesisResult& r) {
+    cv::Mat share;
+    cv::extractChannel(r.weights, share, 1);
+    return cv::mean(share, r.view.mask)[0] / 255;
+  };
+  const SynthesisResult plain = synth.render(cam, o);
+  EXPECT_LT(side_share(plain), 0.01);  // the side camera cannot see this side
+  synth.set_mirror_plane(Eigen::Vector4d(1, 0, 0, 0));
+  const SynthesisResult mirrored = synth.render(cam, o);
+  EXPECT_GT(side_share(mirrored), 0.9);
+  cv::Mat flipped, inner;
+  cv::flip(s.side, flipped, 1);
+  cv::erode(mirrored.view.mask, inner, cv::Mat(), cv::Point(-1, -1), 4);
+  EXPECT_GT(psnr(flipped, mirrored.view.image, inner), 28.0);
+  // The photographed side is unchanged by the mirror.
+  const CameraModel near = view(s.rig.front, -far_side / 2);
+  synth.set_mirror_plane(std::nullopt);
+  const SynthesisResult a = synth.render(near, o);
+  synth.set_mirror_plane(Eigen::Vector4d(1, 0, 0, 0));
+  const SynthesisResult b = synth.render(near, o);
+  EXPECT_GT(psnr(a.view.image, b.view.image, a.view.mask), 45.0);
+}
+
+TEST(NewView, MirrorPlaneMustBeAUnitNormal) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  EXPECT_THROW(synth.set_mirror_plane(Eigen::Vector4d(0, 0, 0, 0)), std::invalid_argument);
+  EXPECT_THROW(synth.set_mirror_plane(Eigen::Vector4d(NAN, 0, 0, 1)), std::invalid_argument);
+  EXPECT_NO_THROW(synth.set_mirror_plane(std::nullopt));
 }
 
 }  // namespace
