@@ -26,9 +26,10 @@ const Command kDetect{
      {"background-front", true, "F  empty-scene frame of the front camera (background difference)"},
      {"background-side", true, "F  empty-scene frame of the side camera"},
      {"side-camera", true, "left|right  where the side camera stands (default: decided from the image)"},
-     {"landmarker", true, "filters|network  the front features' detector: the seed's filters "
-                               "placed by the profile's rows (default), or a trained 68-point network "
-                               "(MIT weights, vision/models)"},
+     {"landmarker", true, "filters|network|consensus  the front features' detector: the seed's "
+                               "filters placed by the profile's rows, a trained 68-point network "
+                               "(MIT weights, vision/models), or both (default: the filters' points "
+                               "the network confirms, else the network's; the profile's midline)"},
      {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
     0};
 
@@ -57,7 +58,7 @@ int run_detect(int argc, char** argv) {
   }
   options.use_haar = args.has("haar");
   try {
-    options.landmarker = vision::parse_front_landmarker(args.get("landmarker", "filters"));
+    options.landmarker = vision::parse_front_landmarker(args.get("landmarker", "consensus"));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("--landmarker: ") + e.what());
   }

@@ -25,9 +25,10 @@ Command reconstruct_command() {
            {"out", true, "DIR  output folder (created; files of the same name are replaced)"},
            {"rig", true, "rig.yaml  calibrated or simulated rig (true scale)"},
            {"side-camera", true, "left|right  where the side camera stood (default: detect)"},
-           {"landmarker", true, "filters|network  the front features' detector: the seed's filters "
-                               "placed by the profile's rows (default), or a trained 68-point network "
-                               "(MIT weights, vision/models)"},
+           {"landmarker", true, "filters|network|consensus  the front features' detector: the seed's "
+                               "filters placed by the profile's rows, a trained 68-point network "
+                               "(MIT weights, vision/models), or both (default: the filters' points "
+                               "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"}},
           0};
@@ -46,7 +47,7 @@ ReconstructOptions options_from(const Args& a) {
                           : side == "right" ? vision::SideCamera::Right
                                             : vision::SideCamera::Auto;
   try {
-    o.observe.landmarker = vision::parse_front_landmarker(a.get("landmarker", "filters"));
+    o.observe.landmarker = vision::parse_front_landmarker(a.get("landmarker", "consensus"));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("--landmarker: ") + e.what());
   }

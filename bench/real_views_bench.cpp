@@ -13,7 +13,7 @@
 //   - the view from each source camera against its photo (PSNR where that photo sees the head);
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
 //     brows: median and worst point / outer-eye distance, points not found).
-// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network] [--no-float] [--mirror]
+// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]
 // JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
 // (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
 // OUTDIR outside the repository.
@@ -317,7 +317,7 @@ int main(int argc, char** argv) {
       }
     }
     if (pos.size() != 2) {
-      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network] [--no-float] [--mirror]\n";
+      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

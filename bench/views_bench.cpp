@@ -51,6 +51,8 @@ namespace fs = std::filesystem;
 // The side photo's subject mask from vision's profile (ViewSynthesizer::set_photo_masks); off
 // with --no-photo-masks to measure what it changes.
 bool g_photo_masks = true;
+// The front landmarker of the pipeline (--landmarker filters|network|consensus).
+vision::FrontLandmarker g_landmarker = vision::ObserveOptions{}.landmarker;
 
 constexpr double kYawsDeg[] = {15, 30, 45, 60, 75};
 constexpr int kNumYaws = 5;
@@ -158,6 +160,7 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   const sim::Capture cap = sim::simulate_capture(head, options, renderer);
   app::ReconstructOptions ro;
   ro.rig = cap.nominal_rig;
+  ro.observe.landmarker = g_landmarker;
   app::Reconstruction r;
   try {
     r = app::reconstruct(cap.front, cap.side, ro);
@@ -400,10 +403,12 @@ int run_sim(int subjects, const std::string& out_dir) {
 int main(int argc, char** argv) {
   try {
     if (argc > 1 && std::string(argv[argc - 1]) == "--no-photo-masks") g_photo_masks = false, --argc;
+    if (argc > 2 && std::string(argv[argc - 2]) == "--landmarker")
+      g_landmarker = vision::parse_front_landmarker(argv[argc - 1]), argc -= 2;
     const std::string mode = argc > 1 ? argv[1] : "";
     if (mode == "sim")
       return run_sim(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
-    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] [--no-photo-masks]\n"
+    std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] [--landmarker L] [--no-photo-masks]\n"
                  "(real photos: real_views_bench)\n";
     return 2;
   } catch (const std::exception& e) {

@@ -2,7 +2,7 @@
 //   vision_bench speed [reps]          observe() on a 640x480 sim front + side pair (median ms)
 //   vision_bench stages [reps]         median CPU ms of each vision stage on the same pair
 //   (VISION_THREADS=N sets cv::setNumThreads for speed / stages)
-//   vision_bench sim [subjects] [filters|network]  accuracy over sim subjects, ideal rig, 4
+//   vision_bench sim [subjects] [filters|network|consensus]  accuracy over sim subjects, ideal rig, 4
 //                                      conditions, with that front landmarker
 //   vision_bench simshow SEED OUT [COND]  one sim subject: truth (green) vs detection overlays,
 //                                      per-landmark truth / detected px and error
@@ -327,6 +327,6 @@ int main(int argc, char** argv) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] [filters|network] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
+  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] [filters|network|consensus] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
   return 2;
 }

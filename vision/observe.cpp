@@ -26,11 +26,18 @@ namespace orthoface::vision {
 FrontLandmarker parse_front_landmarker(const std::string& name) {
   if (name == "filters") return FrontLandmarker::Filters;
   if (name == "network") return FrontLandmarker::Network;
-  throw std::invalid_argument("front landmarker must be filters or network, got '" + name + "'");
+  if (name == "consensus") return FrontLandmarker::Consensus;
+  throw std::invalid_argument("front landmarker must be filters, network or consensus, got '" +
+                              name + "'");
 }
 
 const char* front_landmarker_name(FrontLandmarker landmarker) {
-  return landmarker == FrontLandmarker::Network ? "network" : "filters";
+  switch (landmarker) {
+    case FrontLandmarker::Network: return "network";
+    case FrontLandmarker::Consensus: return "consensus";
+    case FrontLandmarker::Filters: break;
+  }
+  return "filters";
 }
 
 void ObserveOptions::check() const {

@@ -17,13 +17,17 @@ enum class FrontLandmarker {
   Filters,  // seed 004 §4: a position model placed by the side profile's rows, local filters
   Network,  // a trained 68-point network (vision/face_landmarks68.h, MIT weights) on the face
             // the Haar cascade or the silhouette gives; the filters where it finds no face
+  Consensus,  // both: each paired feature (eyes, brows, mouth and nose wings) and the centre
+              // line from the filters where they agree with the network (within 6 % of the
+              // eye distance: the filters lock onto the image's own edges), else the network's;
+              // the midline rows from the profile as the filters place them
 };
-// "filters" / "network"; throws std::invalid_argument naming the text otherwise.
+// "filters" / "network" / "consensus"; throws std::invalid_argument naming the text otherwise.
 FrontLandmarker parse_front_landmarker(const std::string& name);
 const char* front_landmarker_name(FrontLandmarker landmarker);
 
 struct ObserveOptions {
-  FrontLandmarker landmarker = FrontLandmarker::Filters;
+  FrontLandmarker landmarker = FrontLandmarker::Consensus;
   cv::Mat background_front;  // optional empty-scene frames (same size as the photo): silhouettes
   cv::Mat background_side;   // then come from background difference instead of border colours
   SideCamera side_camera = SideCamera::Auto;

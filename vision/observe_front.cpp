@@ -154,6 +154,7 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
     f.method = "network-68";
     return f;
   };
+  const FrontFeatures filters = ff;
   for (const auto& [name, k] : kNetworkPoints) ff.features[name] = feature(p[k]);
   cv::Point2d eye_r(0, 0), eye_l(0, 0);
   for (int k = 0; k < 6; ++k) eye_r += p[36 + k] / 6.0, eye_l += p[42 + k] / 6.0;
@@ -166,6 +167,30 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   ff.centre.centre_y = mid.y;
   ff.centre.roll_rad = std::atan(-(eye_l.y - eye_r.y) / (eye_l.x - eye_r.x));
   ff.centre.confidence = 1.0;
+  if (o.landmarker != FrontLandmarker::Consensus) return;
+  // Consensus: a filters' point the network confirms is kept (it sits on the photo's own edge);
+  // the midline keeps the profile's rows, so the two photos agree on its heights.
+  // The network's brows lie on the brow's upper edge and its nose wings at the nostril's base
+  // (iBUG); the base mesh's on the brow's middle and the wing's outermost point. Measured on the
+  // sim heads (median offset over 12, fraction of the eye distance): brows 0.05 high, wings 0.07
+  // inward and 0.03 low.
+  const double s = eyes_w;
+  for (const char* b : {"brow_left_inner", "brow_left_center", "brow_left_outer", "brow_right_inner",
+                        "brow_right_center", "brow_right_outer"})
+    ff.features[b].px.y += 0.05 * s;
+  ff.features["alar_left"].px += cv::Point2d(0.07 * s, -0.03 * s);  // image-right wing
+  ff.features["alar_right"].px += cv::Point2d(-0.07 * s, -0.03 * s);
+  const double tol = 0.06 * eyes_w;
+  for (auto& [name, f] : ff.features) {
+    const auto it = filters.features.find(name);
+    if (it == filters.features.end()) continue;
+    const bool midline = mirrored_name(name) == name;
+    const bool agree = !it->second.mirrored && cv::norm(it->second.px - f.px) < tol;
+    if (midline || agree) f = it->second;
+  }
+  const double filters_x = filters.centre.centre_x +
+                           std::tan(filters.centre.roll_rad) * (mid.y - filters.centre.centre_y);
+  if (std::abs(filters_x - mid.x) < tol) ff.centre = filters.centre;
 }
 
 }  // namespace
@@ -205,8 +230,8 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   for (auto* side : {&fb.left, &fb.right})
     *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}));
   FrontFeatures ff = front_features(front, fb, rows, H);
-  if (o.landmarker == FrontLandmarker::Network) network_landmarks(front, fb, o, ff, warn);
-  else if (o.use_haar) haar_assist(front, o, ff, warn);
+  if (o.use_haar && o.landmarker != FrontLandmarker::Network) haar_assist(front, o, ff, warn);
+  if (o.landmarker != FrontLandmarker::Filters) network_landmarks(front, fb, o, ff, warn);
   for (const auto& w : ff.warnings) warn.push_back(w);
   for (const auto& p : fb.left) obs.front.boundary.push_back(out_px(p));
   for (const auto& p : fb.right) obs.front.boundary.push_back(out_px(p));

@@ -89,7 +89,7 @@ TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
   const auto report = nlohmann::json::parse(slurp(*work_ / "norig" / "report.json"));
   EXPECT_NE(report["scale"].get<std::string>().find("no rig file"), std::string::npos);
   EXPECT_EQ(report["rig_source"], "default (no rig file)");
-  EXPECT_EQ(report["front_landmarker"], "filters");
+  EXPECT_EQ(report["front_landmarker"], "consensus");
   EXPECT_TRUE(report["photographed_side_yaw_sign"] == 1.0 || report["photographed_side_yaw_sign"] == -1.0);
 }
 

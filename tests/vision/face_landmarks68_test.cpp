@@ -100,7 +100,8 @@ TEST(FaceLandmarks68, NetworkLandmarkerFillsTheFrontFeatures) {
 }
 
 TEST(FaceLandmarks68, LandmarkerNamesRoundTripAndBadOnesAreRefused) {
-  for (FrontLandmarker l : {FrontLandmarker::Filters, FrontLandmarker::Network})
+  for (FrontLandmarker l :
+       {FrontLandmarker::Filters, FrontLandmarker::Network, FrontLandmarker::Consensus})
     EXPECT_EQ(parse_front_landmarker(front_landmarker_name(l)), l);
   EXPECT_THROW(parse_front_landmarker("dlib"), std::invalid_argument);
 }

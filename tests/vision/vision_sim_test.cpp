@@ -10,6 +10,7 @@
 #include "sim/rig.h"
 #include "tests/vision/sim_eval.h"
 #include "vision/haar_init.h"
+#include "vision/landmarks.h"
 #include "vision/observe.h"
 
 namespace ov = orthoface::vision;
@@ -121,6 +122,51 @@ TEST(Observe, BackgroundFrameOnClutteredScene) {
   const auto s = orthoface::testing::score(obs, cap);
   EXPECT_LE(s.boundary_err, 1.5);
   EXPECT_LE(s.profile_err, 1.5);
+}
+
+// Consensus: each feature is the filters' point or the network's (brows and nose wings moved by
+// at most 0.08 of the eye distance to the base mesh's definitions), the filters' wherever the two
+// agree within 6 % of the eye distance, and the midline keeps the filters' (profile) rows.
+TEST(Observe, ConsensusTakesEachFeatureFromOneOfTheTwoDetectors) {
+  const sim::Capture& cap = capture(3);
+  ov::ObserveOptions o;
+  o.landmarker = ov::FrontLandmarker::Filters;
+  const ov::FaceObservation filters = ov::observe(cap.front, cap.side, o);
+  o.landmarker = ov::FrontLandmarker::Network;
+  const ov::FaceObservation network = ov::observe(cap.front, cap.side, o);
+  o.landmarker = ov::FrontLandmarker::Consensus;
+  const ov::FaceObservation both = ov::observe(cap.front, cap.side, o);
+  const auto& nf = network.front.features;
+  ASSERT_EQ(nf.at("eye_left_outer").method, "network-68");
+  const double eyes = cv::norm(nf.at("eye_left_outer").px - nf.at("eye_right_outer").px);
+  int from_filters = 0, from_network = 0;
+  for (const auto& [name, f] : both.front.features) {
+    const auto& a = filters.front.features.at(name);
+    const bool same_as_filters = cv::norm(f.px - a.px) < 1e-9;
+    if (ov::mirrored_name(name) == name) {
+      EXPECT_TRUE(same_as_filters) << name;
+      continue;
+    }
+    const auto b = nf.find(name);
+    if (b == nf.end() || b->second.method != "network-68") {
+      EXPECT_TRUE(same_as_filters) << name;  // a feature the network does not give
+      continue;
+    }
+    const bool moved = name.rfind("brow_", 0) == 0 || name.rfind("alar_", 0) == 0;
+    if (same_as_filters) {
+      EXPECT_FALSE(a.mirrored) << name;
+      EXPECT_LT(cv::norm(a.px - b->second.px), (moved ? 0.14 : 0.06) * eyes) << name;
+      ++from_filters;
+    } else {
+      EXPECT_LT(cv::norm(f.px - b->second.px), moved ? 0.08 * eyes : 1e-9) << name;
+      if (!a.mirrored) EXPECT_GT(cv::norm(f.px - a.px), 0.06 * eyes) << name;
+      ++from_network;
+    }
+  }
+  EXPECT_GT(from_filters, 0);
+  EXPECT_EQ(from_filters + from_network, 16);  // eyes, brows, mouth corners, nose wings
+  EXPECT_EQ(ov::parse_front_landmarker("consensus"), ov::FrontLandmarker::Consensus);
+  EXPECT_STREQ(ov::front_landmarker_name(ov::FrontLandmarker::Consensus), "consensus");
 }
 
 TEST(Observe, BadInputs) {
