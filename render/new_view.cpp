@@ -550,8 +550,10 @@ GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted,
   GLuint& p = view_prog[36 * int(mirror) + 18 * int(sources_out) + 6 * (only_source + 1) +
                         2 * int(visibility) + int(weighted)];
   if (!p) {
+    const std::string vertex = std::string("#version 330 core\n") +
+                               (mirror ? "#define MIRROR 1\n" : "") + shaders::kViewVertex;
     p = gl::program(
-        shaders::kViewVertex,
+        vertex.c_str(),
         view_fragment(rig, visibility, weighted, only_source, sources_out, mirror).c_str(),
         "new_view");
     source_uniforms(p);

@@ -23,7 +23,7 @@ void main() { gl_FragDepth = (v_z - zrange.x) / (zrange.y - zrange.x); })";
 // New view. Per vertex: where each source camera sees the point (camera coordinates), its z_cam
 // and the facing cosines, all affine in the point so they interpolate exactly (perspective-
 // correct); per fragment: distortion, visibility, blend weights and two bilinear photo samples.
-inline const char* kViewVertex = R"(#version 330 core
+inline const char* kViewVertex = R"(
 layout(location = 0) in vec3 pos;
 layout(location = 1) in vec3 nrm;
 layout(location = 4) in vec2 seen;
@@ -32,13 +32,16 @@ uniform mat4 src_from_head[2];
 uniform int persp[2];
 uniform vec3 centre[2];
 uniform vec3 toward[2];
-uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
 out vec3 v_q0;
 out vec3 v_q1;
-out vec3 v_q2;  // the side camera's view of the point's mirror image
-out vec3 v_z;
-out vec3 v_cos;
+out vec2 v_z;
+out vec2 v_cos;
 out vec2 v_seen;
+#ifdef MIRROR
+uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
+out vec3 v_q2;        // the side camera's view of the point's mirror image
+out vec2 v_mirror;    // its z_cam and facing cosine
+#endif
 vec3 q(int i, vec3 pc) { return persp[i] == 1 ? pc : vec3(pc.xy, 1.0); }
 float facing(int i, vec3 p, vec3 n) {
   return dot(n, persp[i] == 1 ? normalize(centre[i] - p) : toward[i]);
@@ -49,14 +52,17 @@ void main() {
   vec3 p1 = (src_from_head[1] * vec4(pos, 1.0)).xyz;
   v_q0 = q(0, p0);
   v_q1 = q(1, p1);
+  v_z = vec2(p0.z, p1.z);
+  float len = length(nrm);
+  vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
+  v_cos = vec2(facing(0, pos, n), facing(1, pos, n));
+  v_seen = seen;
+#ifdef MIRROR
   vec3 pm = (mirror * vec4(pos, 1.0)).xyz;
   vec3 p2 = (src_from_head[1] * vec4(pm, 1.0)).xyz;
   v_q2 = q(1, p2);
-  v_z = vec3(p0.z, p1.z, p2.z);
-  float len = length(nrm);
-  vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
-  v_cos = vec3(facing(0, pos, n), facing(1, pos, n), facing(1, pm, mat3(mirror) * n));
-  v_seen = seen;
+  v_mirror = vec2(p2.z, facing(1, pm, mat3(mirror) * n));
+#endif
 })";
 
 // Specialised by defines in front of this source (llvmpipe evaluates both sides of a branch,
@@ -69,10 +75,13 @@ void main() {
 inline const char* kViewFragment = R"(
 in vec3 v_q0;
 in vec3 v_q1;
-in vec3 v_q2;
-in vec3 v_z;
-in vec3 v_cos;
+in vec2 v_z;
+in vec2 v_cos;
 in vec2 v_seen;
+#ifdef MIRROR
+in vec3 v_q2;
+in vec2 v_mirror;
+#endif
 uniform vec4 intr[2];   // fx fy cx cy
 uniform vec2 size[2];   // width height
 uniform vec4 dist[2];   // k1 k2 p1 p2
@@ -104,6 +113,14 @@ vec2 distort(int i, vec2 xy) {  // OpenCV model, as capture::project
                             dist[i].z * (r2 + 2.0 * xy.y * xy.y) + 2.0 * dist[i].w * xy.x * xy.y);
 }
 
+// Normalised image coordinates of a camera-frame point q (perspective: divided by depth) and
+// their pixel (distorted when the camera has distortion). The flags are literals at each call,
+// so the unused branch folds away.
+vec2 image_xy(vec3 q, bool perspective) { return perspective ? q.xy / q.z : q.xy; }
+vec2 image_uv(int i, vec2 xy, bool distorted) {
+  return intr[i].zw + intr[i].xy * (distorted ? distort(i, xy) : xy);
+}
+
 float inside(vec2 uv, vec2 s) {
   return step(0.0, uv.x) * step(0.0, uv.y) * step(uv.x, s.x) * step(uv.y, s.y);
 }
@@ -127,26 +144,8 @@ float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cos
 }
 
 void main() {
-#if PERSPECTIVE0
-  vec2 xy0 = v_q0.xy / v_q0.z;
-#else
-  vec2 xy0 = v_q0.xy;
-#endif
-#if PERSPECTIVE1
-  vec2 xy1 = v_q1.xy / v_q1.z;
-#else
-  vec2 xy1 = v_q1.xy;
-#endif
-#if DISTORTED0
-  vec2 uv0 = intr[0].zw + intr[0].xy * distort(0, xy0);
-#else
-  vec2 uv0 = intr[0].zw + intr[0].xy * xy0;
-#endif
-#if DISTORTED1
-  vec2 uv1 = intr[1].zw + intr[1].xy * distort(1, xy1);
-#else
-  vec2 uv1 = intr[1].zw + intr[1].xy * xy1;
-#endif
+  vec2 xy0 = image_xy(v_q0, PERSPECTIVE0 == 1), uv0 = image_uv(0, xy0, DISTORTED0 == 1);
+  vec2 xy1 = image_xy(v_q1, PERSPECTIVE1 == 1), uv1 = image_uv(1, xy1, DISTORTED1 == 1);
 #if defined(ONLY_SOURCE) && ONLY_SOURCE == 0
   // Triangles where the blend below is exactly the front photo (ViewSynthesizer sorts them out).
   color = vec4(texture(photo0, uv0 / size[0]).rgb, 1.0);
@@ -164,23 +163,14 @@ void main() {
   // The side never photographed: where the side photo does not see the point, its mirror image
   // through the mid-sagittal plane as the side photo shows it (faces are nearly symmetric). No
   // depth test: the mirror image is near, not on, the surface of an asymmetric mesh.
-#if PERSPECTIVE1
-  vec2 xy2 = v_q2.xy / v_q2.z;
-#else
-  vec2 xy2 = v_q2.xy;
-#endif
-#if DISTORTED1
-  vec2 uv2 = intr[1].zw + intr[1].xy * distort(1, xy2);
-#else
-  vec2 uv2 = intr[1].zw + intr[1].xy * xy2;
-#endif
+  vec2 xy2 = image_xy(v_q2, PERSPECTIVE1 == 1), uv2 = image_uv(1, xy2, DISTORTED1 == 1);
   vec4 c2 = texture(photo1, uv2 / size[1]);
-  float a2 = c2.a * smoothstep(0.0, ramp_mirror, v_cos.z) * inside(uv2, size[1]);
-  if (PERSPECTIVE1 == 1) a2 *= step(0.0, v_z.z);
+  float a2 = c2.a * smoothstep(0.0, ramp_mirror, v_mirror.y) * inside(uv2, size[1]);
+  if (PERSPECTIVE1 == 1) a2 *= step(0.0, v_mirror.x);
   float m = a2 * (1.0 - a1);
   float a1m = a1 + m;
   c1.rgb = a1m > 0.0 ? (a1 * c1.rgb + m * c2.rgb) / a1m : c1.rgb;
-  cos1 = mix(v_cos.z, v_cos.y, step(0.5, a1));
+  cos1 = mix(v_mirror.y, v_cos.y, step(0.5, a1));
   bias = mix(view_bias_mirror, view_bias, step(0.5, a1));
   a1 = a1m;
 #endif
