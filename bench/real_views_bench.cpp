@@ -159,7 +159,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       cv::Mat front_share;
       cv::extractChannel(v0.weights, front_share, 0);
       const cv::Mat front_sees = (front_share > 0) & v0.view.mask;  // the front photo sees it
-      r["yaw0_pixels_not_from_front"] = 1.0 - double(cv::countNonZero(front_share == 255 & v0.view.mask)) /
+      r["yaw0_pixels_not_from_front"] = 1.0 - double(cv::countNonZero((front_share == 255) & v0.view.mask)) /
                                                   std::max(1, cv::countNonZero(v0.view.mask));
       render::SynthesisOptions raw = with_weights;
       raw.equalize = false;
