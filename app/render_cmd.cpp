@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -99,7 +98,6 @@ struct Folder {
   capture::RigCalibration rig;  // where the photos were taken (render::photo_rig)
   cv::Mat front, side;
   cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
-  std::optional<Eigen::Vector4d> mid_plane;  // from landmarks.json (none: no mirrored side)
 };
 
 Folder read_folder(const fs::path& dir) {
@@ -127,8 +125,6 @@ Folder read_folder(const fs::path& dir) {
         obs.side.height == f.side.rows)
       f.side_mask = render::profile_mask(obs.side, obs.side_faces_left);
   }
-  if (fs::exists(dir / "landmarks.json"))
-    f.mid_plane = model::mid_sagittal_plane(read_landmarks((dir / "landmarks.json").string()));
   return f;
 }
 
@@ -236,11 +232,15 @@ int run_render(int argc, char** argv) {
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   render::ViewSynthesizer synth(f.mesh, f.rig, f.front, f.side);
   synth.set_photo_masks({}, f.side_mask);
-  if (a.has("mirror")) {
-    if (!f.mid_plane)
+  if (a.has("mirror")) {  // landmarks.json is read only when asked for
+    const fs::path landmarks = fs::path(a.positional[0]) / "landmarks.json";
+    const auto plane = fs::exists(landmarks)
+                           ? model::mid_sagittal_plane(read_landmarks(landmarks.string()))
+                           : std::nullopt;
+    if (!plane)
       throw std::invalid_argument("--mirror: " + a.positional[0] +
                                   " has no landmarks.json with left / right feature pairs");
-    synth.set_mirror_plane(f.mid_plane);
+    synth.set_mirror_plane(plane);
   }
   o.float_textures = !a.has("no-float");
   if (!turntable) {

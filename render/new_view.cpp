@@ -770,21 +770,24 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   }
   r.view = gl::read_result(camera.width, camera.height, nf,
                            camera.projection == capture::Projection::Perspective, o.depth);
-  auto read_bgra = [&](int attachment) {
-    cv::Mat bgra(camera.height, camera.width, CV_8UC4);
+  // Read on this thread, without cvtColor (see gl::read_result).
+  auto read = [&](int attachment, GLenum format, int type) {
+    cv::Mat m(camera.height, camera.width, type);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadBuffer(GLenum(GL_COLOR_ATTACHMENT0 + attachment));
-    glReadPixels(0, 0, camera.width, camera.height, GL_BGRA, GL_UNSIGNED_BYTE, bgra.data);
-    return bgra;
+    glReadPixels(0, 0, camera.width, camera.height, format, GL_UNSIGNED_BYTE, m.data);
+    return m;
   };
-  if (o.source_weights || floating) {
-    cv::cvtColor(read_bgra(1), r.weights, cv::COLOR_BGRA2RGB);  // (front, side, unseen)
-  }
+  if (o.source_weights || floating) r.weights = read(1, GL_RGB, CV_8UC3);  // (front, side, unseen)
   if (floating && nf[1] > nf[0]) {
     FloatInputs in;
     for (int i = 0; i < 2; ++i) {
-      const cv::Mat bgra = read_bgra(2 + i);
-      cv::cvtColor(bgra, in.source[i], cv::COLOR_BGRA2BGR);
-      cv::extractChannel(bgra, in.available[i], 3);
+      const cv::Mat bgra = read(2 + i, GL_BGRA, CV_8UC4);
+      in.source[i].create(bgra.size(), CV_8UC3);
+      in.available[i].create(bgra.size(), CV_8U);
+      cv::Mat outs[2] = {in.source[i], in.available[i]};
+      const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
+      cv::mixChannels(&bgra, 1, outs, 2, from_to, 4);
     }
     in.weights = r.weights;
     in.mask = r.view.mask;
@@ -793,9 +796,7 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     in.alpha = float_alpha(cv3(to_view), cv3(to_front), cv3(to_side));
     if (mirror)  // the side never photographed: its reference is the mirror image's viewpoint
       in.alpha = std::max(in.alpha, float_alpha(cv3(to_view), cv3(to_front), cv3(to_mirror)));
-    const FloatResult f = float_textures(in, r.view.image);
-    r.view.image = f.image;
-    r.float_shift_px = f.mean_shift_px;
+    r.view.image = float_textures(in, r.view.image).image;
   }
   if (!o.source_weights) r.weights.release();
   return r;

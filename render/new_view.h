@@ -60,9 +60,6 @@ struct SynthesisResult {
   // Per-pixel visibility with skip_unoccluded: triangles drawn with one photo's fetch alone, and
   // without the occlusion test; the rest had the full test. 0 and 0 otherwise.
   int triangles_one_photo = 0, triangles_untested = 0;
-  // With float_textures: mean optical-flow length (px) between the two photos' renderings where
-  // both see the surface, i.e. how far apart the mesh puts the same feature; 0 otherwise.
-  double float_shift_px = 0;
 };
 
 // Colour equalisation (Lab mean / std of each photo over the surface both cameras see well; the

@@ -113,7 +113,8 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 }
 
 // Replaces the filters' eyes, brows, nose, mouth, chin and midline rows by the network's, and
-// the centre line by the one through its symmetric pairs. Leaves `ff` as it was (with a warning)
+// the centre line by the one through its symmetric pairs; under Consensus, keeps the filters'
+// midline and every filters' point the network confirms (see FrontLandmarker). Leaves `ff` as it was (with a warning)
 // when the weights cannot be read or no plausible face is found.
 void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
                        FrontFeatures& ff, std::vector<std::string>& warn) {
@@ -174,12 +175,11 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   // (iBUG); the base mesh's on the brow's middle and the wing's outermost point. Measured on the
   // sim heads (median offset over 12, fraction of the eye distance): brows 0.05 high, wings 0.07
   // inward and 0.03 low.
-  const double s = eyes_w;
   for (const char* b : {"brow_left_inner", "brow_left_center", "brow_left_outer", "brow_right_inner",
                         "brow_right_center", "brow_right_outer"})
-    ff.features[b].px.y += 0.05 * s;
-  ff.features["alar_left"].px += cv::Point2d(0.07 * s, -0.03 * s);  // image-right wing
-  ff.features["alar_right"].px += cv::Point2d(-0.07 * s, -0.03 * s);
+    ff.features[b].px.y += 0.05 * eyes_w;
+  ff.features["alar_left"].px += cv::Point2d(0.07, -0.03) * eyes_w;  // image-right wing
+  ff.features["alar_right"].px += cv::Point2d(-0.07, -0.03) * eyes_w;
   const double tol = 0.06 * eyes_w;
   for (auto& [name, f] : ff.features) {
     const auto it = filters.features.find(name);

@@ -96,6 +96,14 @@ TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {
   const cv::Mat mirrored = cv::imread((work / "mirrored.png").string());
   ASSERT_EQ(plain.size(), mirrored.size());
   EXPECT_GT(cv::norm(plain, mirrored, cv::NORM_L1) / plain.total(), 1.0);  // the far side changed
+  // A broken landmarks.json stops --mirror with one error line; a plain render never reads it.
+  std::ofstream(work / "rec" / "landmarks.json") << "{\"landmarks\": [";
+  EXPECT_NE(run("render rec --yaw -80 --mirror -o broken.png", work), 0);
+  const std::string err = slurp(work / "err.txt");
+  EXPECT_EQ(err.rfind("error: ", 0), 0u) << err;
+  EXPECT_NE(err.find("landmarks.json"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(work / "broken.png"));
+  EXPECT_EQ(run("render rec --yaw -80 -o plain2.png", work), 0) << slurp(work / "err.txt");
 }
 
 TEST(RenderCommand, BadInputGivesOneErrorLine) {
