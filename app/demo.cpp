@@ -27,6 +27,7 @@
 #include "sim/rig.h"
 #include "sim/sim_folder.h"
 #include "vision/overlay.h"
+#include "vision/profile_mask.h"
 
 namespace orthoface::app {
 namespace {
@@ -125,10 +126,10 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
     const vision::FaceObservation& obs = s.model->observation;
-    render::ViewSynthesizer synth(s.model->mesh, render::photo_rig(s.model->rig, obs.side_faces_left),
+    render::ViewSynthesizer synth(s.model->mesh, capture::photo_rig(s.model->rig, obs.side_faces_left),
                                   s.model->front, s.model->side);
     if (obs.side.boundary.size() >= 2)
-      synth.set_photo_masks({}, render::profile_mask(obs.side, obs.side_faces_left));
+      synth.set_photo_masks({}, vision::profile_mask(obs.side, obs.side_faces_left));
     for (size_t i = 0; i < std::size(kViewYawsDeg); ++i) {
       const capture::CameraModel camera =
           sim::true_view_camera(options, kViewYawsDeg[i] * M_PI / 180, 0);

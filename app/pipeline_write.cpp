@@ -53,7 +53,7 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"rig_source", r.rig.source},
           // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
           {"photographed_side_yaw_sign",
-           render::photographed_side_sign(render::photo_rig(r.rig, r.observation.side_faces_left))},
+           capture::photographed_side_sign(capture::photo_rig(r.rig, r.observation.side_faces_left))},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},

@@ -22,6 +22,7 @@
 #include "render/new_view.h"
 #include "render/textured_export.h"
 #include "vision/observation_io.h"
+#include "vision/profile_mask.h"
 
 namespace orthoface::app {
 namespace {
@@ -95,7 +96,7 @@ void write_image(const cv::Mat& image, const fs::path& path) {
 
 struct Folder {
   model::TriMesh mesh;
-  capture::RigCalibration rig;  // where the photos were taken (render::photo_rig)
+  capture::RigCalibration rig;  // where the photos were taken (capture::photo_rig)
   cv::Mat front, side;
   cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
 };
@@ -120,19 +121,21 @@ Folder read_folder(const fs::path& dir) {
   // A side photo taken from the subject's right was mirrored for the model, not for texturing.
   if (fs::exists(dir / "observation.json")) {
     const vision::FaceObservation obs = vision::read_observation((dir / "observation.json").string());
-    f.rig = render::photo_rig(f.rig, obs.side_faces_left);
+    f.rig = capture::photo_rig(f.rig, obs.side_faces_left);
     if (obs.side.boundary.size() >= 2 && obs.side.width == f.side.cols &&
         obs.side.height == f.side.rows)
-      f.side_mask = render::profile_mask(obs.side, obs.side_faces_left);
+      f.side_mask = vision::profile_mask(obs.side, obs.side_faces_left);
   }
   return f;
 }
 
-// The view camera: the front camera's model, rescaled to the output size, turned to yaw / pitch
-// at the front camera's distance.
-capture::CameraModel view_camera(const capture::CameraModel& front, int width, int height,
-                                 double yaw_deg, double pitch_deg) {
-  capture::CameraModel k = front;
+// The view camera (capture::view_camera) with the front camera's model rescaled to the output
+// size.
+capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int width,
+                                        int height, double yaw_deg, double pitch_deg) {
+  const capture::CameraModel& front = rig.front;
+  capture::RigCalibration scaled = rig;
+  capture::CameraModel& k = scaled.front;
   const double sx = double(width) / front.width, sy = double(height) / front.height;
   const double s = std::min(sx, sy);
   k.width = width;
@@ -141,8 +144,7 @@ capture::CameraModel view_camera(const capture::CameraModel& front, int width, i
   k.fy = front.fy * s;
   k.cx = width / 2.0 + (front.cx - front.width / 2.0) * s;
   k.cy = height / 2.0 + (front.cy - front.height / 2.0) * s;
-  const double distance = std::max(front.cam_from_head.translation().norm(), 1.0);
-  return capture::camera_at(k, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
+  return capture::view_camera(scaled, yaw_deg, pitch_deg);
 }
 
 cv::Mat with_background(const render::RenderResult& r, bool transparent) {
@@ -244,7 +246,7 @@ int run_render(int argc, char** argv) {
   }
   o.float_textures = !a.has("no-float");
   if (!turntable) {
-    const auto r = synth.render(view_camera(f.rig.front, w, h, yaw, pitch), o);
+    const auto r = synth.render(scaled_view_camera(f.rig, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s)\n", out.string().c_str(), w, h, yaw,
                 pitch, render::blend_name(o.blend));
@@ -253,7 +255,7 @@ int run_render(int argc, char** argv) {
   std::vector<render::Tile> tiles;
   for (int i = 0; i < turntable; ++i) {
     const double y = -90.0 + 180.0 * i / (turntable - 1);
-    const auto r = synth.render(view_camera(f.rig.front, w, h, y, pitch), o);
+    const auto r = synth.render(scaled_view_camera(f.rig, w, h, y, pitch), o);
     char name[64];
     std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
     const fs::path view = out.parent_path() / (out.stem().string() + name + ext);

@@ -153,7 +153,7 @@ void Station::finish_fit() {
       // Texture from where the photos were taken: a side camera on the subject's right stands
       // at -x for texturing (the model mirrored its observation, not its photos).
       synth_ = std::make_unique<render::ViewSynthesizer>(
-          r.mesh, render::photo_rig(r.rig, r.observation.side_faces_left), r.front, r.side);
+          r.mesh, capture::photo_rig(r.rig, r.observation.side_faces_left), r.front, r.side);
       synth_rig_ = r.rig;
     } else {
       synth_->set_mesh(r.mesh);
@@ -181,11 +181,6 @@ void Station::handle(const std::string& action) {
   }
 }
 
-capture::CameraModel view_camera(const capture::RigCalibration& rig, double yaw_deg, double pitch_deg) {
-  const double distance = std::max(rig.front.cam_from_head.translation().norm(), 1.0);
-  return capture::camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
-}
-
 void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
   if (synth_) {
     const double t = capture::monotonic_now_s();
@@ -200,7 +195,7 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
     // much for a live frame on two cores; the offline render and batch use them.
     image_only.float_textures = false;
-    view_ = synth_->render(view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only).view.image;
+    view_ = synth_->render(capture::view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only).view.image;
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));

@@ -37,6 +37,7 @@
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
+#include "vision/profile_mask.h"
 
 namespace {
 
@@ -134,20 +135,19 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const app::Reconstruction rec = app::reconstruct(front, side, ro);
       ++reconstructed;
       const bool faces_left = rec.observation.side_faces_left;
-      const capture::RigCalibration rig = render::photo_rig(rec.rig, faces_left);
+      const capture::RigCalibration rig = capture::photo_rig(rec.rig, faces_left);
       render::ViewSynthesizer synth(rec.mesh, rig, rec.front, rec.side);
-      synth.set_photo_masks({}, render::profile_mask(rec.observation.side, faces_left));
+      synth.set_photo_masks({}, vision::profile_mask(rec.observation.side, faces_left));
       if (opt.mirror) synth.set_mirror_plane(model::mid_sagittal_plane(rec.landmarks));
       render::SynthesisOptions so;
       so.float_textures = opt.float_textures;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
-      const double distance = std::max(rec.rig.front.cam_from_head.translation().norm(), 1.0);
       auto view = [&](double yaw_deg) {
-        return synth.render(capture::camera_at(rec.rig.front, yaw_deg * M_PI / 180, 0, distance), so);
+        return synth.render(capture::view_camera(rec.rig, yaw_deg, 0), so);
       };
       // The photographed side: the yaw sign that turns the view toward the side camera.
-      const double near_sign = render::photographed_side_sign(rig);
+      const double near_sign = capture::photographed_side_sign(rig);
       r["photographed_side_yaw_sign"] = near_sign;
 
       // Reproduction at the source cameras: the view from the front camera against the front

@@ -41,6 +41,7 @@
 #include "sim/rig.h"
 #include "sim/scan.h"
 #include "vision/observe.h"
+#include "vision/profile_mask.h"
 
 namespace {
 
@@ -171,7 +172,7 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   const auto m = meshes(head.mesh, r);
   render::ViewSynthesizer synth(m[0], r.rig, r.front, r.side);
   if (g_photo_masks)
-    synth.set_photo_masks({}, render::profile_mask(r.observation.side, r.observation.side_faces_left));
+    synth.set_photo_masks({}, vision::profile_mask(r.observation.side, r.observation.side_faces_left));
   std::vector<render::Tile> tiles;
   for (int y = 0; y < kNumYaws; ++y) {
     const double yaw = kYawsDeg[y] * M_PI / 180;

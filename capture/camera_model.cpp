@@ -1,5 +1,6 @@
 #include "capture/camera_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -154,6 +155,39 @@ CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitc
   head_from_cam.translation() = dir * d;
   c.cam_from_head = head_from_cam.inverse();
   return c;
+}
+
+CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_deg) {
+  const double distance = std::max(rig.front.cam_from_head.translation().norm(), 1.0);
+  return camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
+}
+
+RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left) {
+  if (side_faces_left) return rig;
+  const CameraModel& s = rig.side;
+  if (s.width <= 0 || s.height <= 0)
+    throw std::invalid_argument("photo rig: side camera: image size " + std::to_string(s.width) +
+                                "x" + std::to_string(s.height) + " is not positive");
+  if (!(s.fx > 0) || !(s.fy > 0) || !std::isfinite(s.fx) || !std::isfinite(s.fy) ||
+      !std::isfinite(s.cx) || !std::isfinite(s.cy) || !s.cam_from_head.matrix().allFinite())
+    throw std::invalid_argument("photo rig: side camera: camera needs finite fx, fy > 0, cx, cy "
+                                "and pose");
+  // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
+  // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
+  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  RigCalibration out = rig;
+  CameraModel& c = out.side;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = flip * rig.side.cam_from_head.linear() * flip;
+  pose.translation() = flip * rig.side.cam_from_head.translation();
+  c.cam_from_head = pose;
+  c.cx = c.width - rig.side.cx;
+  if (c.distortion.size() >= 4) c.distortion[3] = -c.distortion[3];
+  return out;
+}
+
+double photographed_side_sign(const RigCalibration& photo_rig) {
+  return photo_rig.side.cam_from_head.inverse().translation().x() >= 0 ? 1.0 : -1.0;
 }
 
 RigCalibration ideal_rig(int width, int height, double px_per_mm) {

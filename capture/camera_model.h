@@ -58,6 +58,25 @@ Eigen::Vector3d view_direction(const CameraModel& camera);
 CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitch_rad,
                       double distance_mm);
 
+// The camera of a new view at yaw / pitch (degrees, camera_at's convention): `rig.front`'s
+// intrinsics at the front camera's distance from the head origin (at least 1 mm). Throws
+// std::invalid_argument for a non-finite yaw or pitch.
+CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_deg);
+
+// The rig that took the two photos, for texturing. The model works in the head frame with the
+// side camera at +x (the face on the side image's left); when that camera stood on the subject's
+// right instead (vision's FaceObservation::side_faces_left == false), the model mirrored the side
+// observation but not the side photo, which must be projected from where it was taken: `rig`
+// with its side camera reflected through the x = 0 plane (pose, principal point and tangential
+// distortion p2), i.e. standing at -x. With side_faces_left == true, `rig` unchanged. Throws
+// std::invalid_argument on a side camera without a positive size, finite fx, fy > 0, cx, cy, pose.
+RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left);
+
+// The sign of camera_at's yaw that turns a view toward the side camera of `photo_rig` (the rig
+// as the photos were taken, photo_rig()): +1 when that camera stands at +x of the head frame
+// (the subject's left), -1 at -x.
+double photographed_side_sign(const RigCalibration& photo_rig);
+
 // The ideal seed 004 rig: two orthographic cameras of the given image size and scale (pixels per
 // mm), head origin at the image centre. Throws std::invalid_argument on size <= 0 or scale <= 0.
 RigCalibration ideal_rig(int width, int height, double px_per_mm);

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdint>
-#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -16,6 +14,8 @@
 #include "render/floating_textures.h"
 #include "render/gl_util.h"
 #include "render/new_view_shaders.h"
+#include "render/source_textures.h"
+#include "render/triangle_classes.h"
 
 namespace orthoface::render {
 namespace {
@@ -34,51 +34,8 @@ cv::Mat as_bgr(const cv::Mat& photo, const capture::CameraModel& cam, const std:
   return bgr;
 }
 
-struct SourceGl {
-  GLuint zmap = 0, photo = 0, photo_eq = 0;  // zmap: linear depth texture, compare mode
-  GLuint lut = 0, eq_fbo = 0;                 // equalisation: 3D colour lookup, FBO on photo_eq
-  cv::Size photo_size, photo_eq_size;        // allocated sizes of photo, photo_eq
-  std::array<double, 2> zrange{0, 0};        // near, far of zmap
-  cv::Mat depth;                             // z_cam (mm), CV_32F, +inf where empty
-  cv::Mat raw;                               // the photo as set (buffer reused)
-  cv::Mat mask;                              // subject mask (alpha), eroded; empty = all
-  cv::Rect footprint;                        // photo pixels the mesh can take colour from
-};
-
-constexpr int kLutSize = 33;  // equalisation lookup grid per axis (trilinear in between)
-
-// Uploads 8-bit BGR `bgr` with `mask` (CV_8U, empty = 255) as alpha into the RGBA8 texture `tex`
-// with linear filtering; image row 0 is
-// t = 0. Allocates only on the first call or a size change (else glTexSubImage2D). Images larger
-// than GL_MAX_TEXTURE_SIZE are downscaled (the shader samples in normalised coordinates).
-void upload_bgr(const cv::Mat& bgr, const cv::Mat& mask, GLuint& tex, cv::Size& allocated) {
-  cv::Mat bgra(bgr.size(), CV_8UC4);
-  const cv::Mat alpha = mask.empty() ? cv::Mat(bgr.size(), CV_8U, cv::Scalar(255)) : mask;
-  const cv::Mat parts[] = {bgr, alpha};
-  const int from_to[] = {0, 0, 1, 1, 2, 2, 3, 3};
-  cv::mixChannels(parts, 2, &bgra, 1, from_to, 4);
-  cv::Mat image = gl::fit_texture_limit(bgra);
-  if (!image.isContinuous()) image = image.clone();
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  if (!tex) glGenTextures(1, &tex);
-  glBindTexture(GL_TEXTURE_2D, tex);
-  if (allocated == image.size()) {
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, image.cols, image.rows, GL_BGRA, GL_UNSIGNED_BYTE,
-                    image.data);
-    return;
-  }
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, image.cols, image.rows, 0, GL_BGRA, GL_UNSIGNED_BYTE,
-               image.data);
-  gl::linear_clamp_parameters();
-  allocated = image.size();
-}
-
 // Occlusion test of a view program (the VISIBILITY define of kViewFragment).
 enum class Visibility { kNone = 0, kPerVertex = 1, kPerPixel = 2 };
-
-// How ViewSynthesizer::Impl::order_triangles sorts a triangle for per-pixel visibility, in
-// element-buffer order.
-enum class TriangleClass { kFrontOnly = 0, kSideOnly = 1, kUnoccluded = 2, kTested = 3 };
 
 // Width of the pick blend's feather in cos0 - cos1, which changes by sqrt(2) per radian of
 // normal rotation near the 45-degree switch; a tiny band stands for feather 0 (a hard switch) as
@@ -113,7 +70,7 @@ double view_bias(const Eigen::Vector3d& front, const Eigen::Vector3d& side,
 // Facing cosine over which a source's share rises to 1 (a grazing sample is stretched). Under
 // the View blend it narrows near that camera's own viewpoint, where the stretch goes away (there
 // a grazing sample is exactly the photo's pixel); never wider than 0.1, which
-// order_triangles' "whole" test assumes.
+// triangle_facts' "whole" test assumes.
 double facing_ramp(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
                    const SynthesisOptions& o) {
   constexpr double kRamp = 0.1;
@@ -143,39 +100,6 @@ std::string view_fragment(const capture::RigCalibration& rig, Visibility visibil
   return defines + shaders::kViewFragment;
 }
 
-// An RGBA8 texture of `size` with linear filtering as colour attachment 0 of `fbo`.
-void ensure_target(GLuint& tex, cv::Size& allocated, GLuint& fbo, cv::Size size) {
-  if (tex && allocated == size) return;
-  if (!tex) glGenTextures(1, &tex);
-  glBindTexture(GL_TEXTURE_2D, tex);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, size.width, size.height, 0, GL_RGBA, GL_UNSIGNED_BYTE,
-               nullptr);
-  gl::linear_clamp_parameters();
-  if (!fbo) glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, tex, 0);
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
-    throw std::runtime_error("new view: equalisation framebuffer is incomplete");
-  allocated = size;
-}
-
-// The equalisation grid (detail::equalize_grid) as a 2D RGBA8 texture of kLutSize slices side
-// by side (x = b * n + r, y = g): the shader interpolates bilinearly within two slices and
-// linearly between them (llvmpipe's 2D unorm8 filtering is far cheaper than its 3D path).
-void upload_lut(const cv::Mat& grid, GLuint& tex) {
-  const int n = kLutSize;
-  cv::Mat atlas(n, n * n, CV_32FC3);
-  const auto* entry = grid.ptr<cv::Vec3f>();
-  for (int b = 0; b < n; ++b)
-    for (int g = 0; g < n; ++g)
-      for (int r = 0; r < n; ++r) atlas.at<cv::Vec3f>(g, b * n + r) = entry[(b * n + g) * n + r];
-  if (!tex) glGenTextures(1, &tex);
-  glBindTexture(GL_TEXTURE_2D, tex);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, n * n, n, 0, GL_BGR, GL_FLOAT, atlas.data);
-  gl::linear_clamp_parameters();
-}
-
 }  // namespace
 
 Blend parse_blend(const std::string& name) {
@@ -192,10 +116,6 @@ const char* blend_name(Blend blend) {
     case Blend::Weighted: return "weighted";
   }
   return "?";
-}
-
-double photographed_side_sign(const capture::RigCalibration& photo_rig) {
-  return photo_rig.side.cam_from_head.inverse().translation().x() >= 0 ? 1.0 : -1.0;
 }
 
 void SynthesisOptions::check() const {
@@ -224,17 +144,10 @@ struct ViewSynthesizer::Impl {
   std::optional<SynthesisOptions> ordered_for;
   double ordered_bias = 0;  // the view bias the element buffer was sorted for
   std::array<GLsizei, 4> class_count{};
-  // Per triangle (mesh order), what its class depends on; made for `facts_for`.
-  struct TriangleFacts {
-    std::array<bool, 2> whole{};  // the source's share is exactly 1 over the triangle
-    bool unoccluded = false;      // no depth map occludes it
-    std::array<double, 2> lead{INFINITY, INFINITY};        // min over corners of cos_i - cos_other
-    std::array<double, 2> max_cos{-INFINITY, -INFINITY};  // max over corners of cos_i
-  };
-  std::vector<TriangleFacts> facts;
+  std::vector<TriangleFacts> facts;  // per triangle (mesh order), made for `facts_for`
   std::optional<SynthesisOptions> facts_for;
   capture::RigCalibration rig;
-  SourceGl src[2];
+  detail::SourceGl src[2];
   bool has_photos = false;
   ColourMatch match;
   gl::Framebuffer fb;
@@ -246,7 +159,7 @@ struct ViewSynthesizer::Impl {
     glUseProgram(equalize_prog);
     glUniform1i(glGetUniformLocation(equalize_prog, "photo"), 0);
     glUniform1i(glGetUniformLocation(equalize_prog, "lut"), 1);
-    glUniform1f(glGetUniformLocation(equalize_prog, "lut_size"), float(kLutSize));
+    glUniform1f(glGetUniformLocation(equalize_prog, "lut_size"), float(detail::kLutSize));
     glGenVertexArrays(1, &empty_vao);
   }
   ~Impl() {
@@ -267,11 +180,8 @@ struct ViewSynthesizer::Impl {
   }
 
   const capture::CameraModel& cam(int i) const { return i == 0 ? rig.front : rig.side; }
-  void render_source_depth(int i);
-  void find_footprints();
   void upload_seen();
-  void triangle_facts(const SynthesisOptions& o);
-  void order_triangles(const SynthesisOptions& o, double bias);
+  void sort_elements(const SynthesisOptions& o, double bias);
   void upload_photos(const cv::Mat& front, const cv::Mat& side);
   void match_colours();
   void equalize_photos();
@@ -280,81 +190,6 @@ struct ViewSynthesizer::Impl {
                       bool mirror);
   std::optional<Eigen::Vector4d> mirror_plane;  // set_mirror_plane
 };
-
-// Linear depth map of source i, (z_cam - near) / (far - near), into a depth texture sampled
-// with comparison at the nearest texel (one fetch: 2x2 PCF cost about 1 ms CPU per 640x480
-// frame on llvmpipe and changed no PSNR on the sim heads or the scan by 0.1 dB), plus its z_cam
-// copy on the CPU. Back faces culled.
-void ViewSynthesizer::Impl::render_source_depth(int i) {
-  const capture::CameraModel& c = cam(i);
-  SourceGl& s = src[i];
-  if (!s.zmap) glGenTextures(1, &s.zmap);
-  glBindTexture(GL_TEXTURE_2D, s.zmap);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
-               GL_FLOAT, nullptr);
-  gl::linear_clamp_parameters();
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  GLuint fbo = 0;
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s.zmap, 0);
-  glDrawBuffer(GL_NONE);
-  glReadBuffer(GL_NONE);
-  glViewport(0, 0, c.width, c.height);
-  const float one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);
-  s.zrange = gl::near_far(c, mesh.lo, mesh.hi);
-  if (s.zrange[1] > s.zrange[0]) {
-    const auto clip = gl::clip_from_head(c, s.zrange[0], s.zrange[1]);
-    const auto zrow = gl::zcam_row(c);
-    glUseProgram(depth_prog);
-    glUniformMatrix4fv(glGetUniformLocation(depth_prog, "clip_from_head"), 1, GL_FALSE,
-                       clip.data());
-    glUniform4fv(glGetUniformLocation(depth_prog, "zrow"), 1, zrow.data());
-    glUniform2f(glGetUniformLocation(depth_prog, "zrange"), float(s.zrange[0]),
-                float(s.zrange[1]));
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glFrontFace(GL_CW);
-    glEnable(GL_CULL_FACE);
-    glBindVertexArray(mesh.vao);
-    glDrawElements(GL_TRIANGLES, mesh.count, GL_UNSIGNED_INT, nullptr);
-    glBindVertexArray(0);
-  }
-  s.depth.create(c.height, c.width, CV_32F);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, c.width, c.height, GL_DEPTH_COMPONENT, GL_FLOAT, s.depth.data);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteFramebuffers(1, &fbo);
-  gl::window_depth_to_zcam(s.depth, s.zrange[0], s.zrange[1], false);  // linear by construction
-}
-
-// The photo pixels the mesh projects to (with distortion), plus a margin for bilinear
-// sampling: the equalisation pass only needs these.
-void ViewSynthesizer::Impl::find_footprints() {
-  constexpr int kMargin = 3;
-  for (int i = 0; i < 2; ++i) {
-    const capture::CameraModel& c = cam(i);
-    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
-    for (const Eigen::Vector3d& v : vertices) {
-      if (c.projection == capture::Projection::Perspective && !(capture::depth(c, v) > 0)) continue;
-      const Eigen::Vector2d uv = capture::project(c, v);
-      for (int k = 0; k < 2; ++k) lo[k] = std::min(lo[k], uv[k]), hi[k] = std::max(hi[k], uv[k]);
-    }
-    const cv::Rect image(0, 0, c.width, c.height);
-    if (!(lo[0] <= hi[0] && lo[1] <= hi[1])) {
-      src[i].footprint = cv::Rect();
-      continue;
-    }
-    auto clamped = [](double x, int limit) { return int(std::clamp(x, -1.0, double(limit) + 1)); };
-    const cv::Point a(clamped(std::floor(lo[0]), c.width) - kMargin, clamped(std::floor(lo[1]), c.height) - kMargin);
-    const cv::Point b(clamped(std::ceil(hi[0]), c.width) + kMargin, clamped(std::ceil(hi[1]), c.height) + kMargin);
-    src[i].footprint = cv::Rect(a, b) & image;
-  }
-}
 
 // Per-vertex visibility in each source (the fast path's occlusion test), attribute 4.
 void ViewSynthesizer::Impl::upload_seen() {
@@ -374,126 +209,32 @@ void ViewSynthesizer::Impl::upload_seen() {
   glBindVertexArray(0);
 }
 
-// What each triangle's TriangleClass depends on, for the options `o` (kept in `facts`); then
-// order_triangles sorts the element buffer by class for the view's bias. What kViewFragment
-// computes for a surface point depends on the view only through the view bias of the View
-// blend (a constant per view): the facing cosines, the photo positions and
-// the occlusion test against the sources' depth maps are all fixed by the mesh and the rig. So
-// triangles where it is provably one photo alone (kFrontOnly / kSideOnly: one texture fetch),
-// or where neither depth map occludes the triangle (kUnoccluded: no occlusion fetches) are
-// drawn by cheaper programs with the same result; the rest (kTested) by the full one. Texel
-// tests sample each triangle every half source pixel against the 3 x 3 minimum of the depth
-// map and of the subject mask (the shader reads the texels around any point within a pixel of
-// a sample), the sample's depth raised by one step of the sampling grid.
-void ViewSynthesizer::Impl::triangle_facts(const SynthesisOptions& o) {
-  cv::Mat nearest[2], mask[2];
-  bool maskable[2];
-  for (int i = 0; i < 2; ++i) {
-    cv::erode(src[i].depth, nearest[i], cv::Mat());  // 3x3 minimum
-    if (!src[i].mask.empty()) cv::erode(src[i].mask, mask[i], cv::Mat());
-    maskable[i] = src[i].photo_size == src[i].raw.size();  // texture texels = photo pixels
+// The element buffer sorted by TriangleClass for the view's bias (render/triangle_classes.h).
+// What kViewFragment computes for a surface point depends on the view only through the view
+// bias of the View blend (a constant per view): the facing cosines, the photo positions and the
+// occlusion test against the sources' depth maps are all fixed by the mesh and the rig. So
+// triangles where it is provably one photo alone, or where neither depth map occludes the
+// triangle, are drawn by cheaper programs with the same result; the rest by the full one.
+void ViewSynthesizer::Impl::sort_elements(const SynthesisOptions& o, double bias) {
+  if (!facts_for || facts_for->visibility_tolerance_mm != o.visibility_tolerance_mm) {
+    std::array<TriangleSource, 2> sources;
+    for (int i = 0; i < 2; ++i)  // texture texels = photo pixels: the mask tests are exact
+      sources[i] = {cam(i), src[i].depth, src[i].mask, src[i].photo_size == src[i].raw.size()};
+    facts = triangle_facts(vertices, normals, triangles, sources, o.visibility_tolerance_mm);
+    facts_for = o;
+    ordered_for.reset();
   }
-  std::vector<std::array<double, 2>> facing(vertices.size());  // per vertex, per source
-  for (size_t v = 0; v < vertices.size(); ++v)
-    for (int i = 0; i < 2; ++i) facing[v][i] = detail::facing(cam(i), vertices[v], normals[v]);
-  struct SourceTest {
-    bool unoccluded = true;  // the occlusion test passes wherever the source's share can be > 0
-    bool whole = false;      // and its share is exactly 1 everywhere (facing, frame, mask)
-  };
-  auto test = [&](const std::array<int, 3>& t, int i) {
-    const capture::CameraModel& c = cam(i);
-    const bool perspective = c.projection == capture::Projection::Perspective;
-    Eigen::Vector3d z, cosine;
-    Eigen::Vector2d uv[3];
-    for (int k = 0; k < 3; ++k) {
-      const Eigen::Vector3d& p = vertices[t[k]];
-      cosine[k] = facing[t[k]][i];
-      z[k] = capture::depth(c, p);
-      uv[k] = detail::undistorted_pixel(c, p);
-    }
-    SourceTest r;
-    if (cosine.maxCoeff() <= 0) return r;  // faces away: share 0 everywhere
-    double longest = 0;
-    for (int k = 0; k < 3; ++k) longest = std::max(longest, (uv[k] - uv[(k + 1) % 3]).norm());
-    if (!std::isfinite(longest)) return SourceTest{false, false};
-    r.whole = cosine.minCoeff() >= 0.1 && maskable[i];  // smoothstep(0, 0.1, cos) == 1
-    const int steps = std::max(1, int(std::ceil(2.0 * longest)));
-    const double z_step = (z.maxCoeff() - z.minCoeff()) / steps;
-    for (int a = 0; a <= steps; ++a)
-      for (int b = 0; a + b <= steps; ++b) {
-        const Eigen::Vector3d w(double(a) / steps, double(b) / steps,
-                                double(steps - a - b) / steps);
-        const double cos_p = w.dot(cosine), z_p = w.dot(z);
-        if (cos_p <= 0 || (perspective && !(z_p > 0))) {  // share 0 here
-          r.whole = false;
-          continue;
-        }
-        const Eigen::Vector3d p = w[0] * vertices[t[0]] + w[1] * vertices[t[1]] +
-                                  w[2] * vertices[t[2]];
-        const Eigen::Vector2d u = detail::undistorted_pixel(c, p);
-        const int col = std::clamp(int(std::floor(u.x())), 0, c.width - 1);
-        const int row = std::clamp(int(std::floor(u.y())), 0, c.height - 1);
-        const double px_mm = (perspective ? z_p : 1.0) / c.fx;
-        const double tol = o.visibility_tolerance_mm + 1.5 * px_mm / std::max(cos_p, 0.2);
-        if (!(z_p + z_step <= nearest[i].at<float>(row, col) + tol - 1e-3)) return SourceTest{false, false};
-        if (!r.whole) continue;
-        const Eigen::Vector2d d = capture::project(c, p);  // the photo position, distorted
-        const int dc = int(std::floor(d.x())), dr = int(std::floor(d.y()));
-        r.whole = dc >= 1 && dr >= 1 && dc + 1 < c.width && dr + 1 < c.height &&
-                  (mask[i].empty() || mask[i].at<std::uint8_t>(dr, dc) == 255);
-      }
-    return r;
-  };
-  facts.clear();
-  facts.reserve(triangles.size());
-  for (const auto& t : triangles) {
-    const SourceTest s0 = test(t, 0), s1 = test(t, 1);
-    TriangleFacts f;
-    f.whole = {s0.whole, s1.whole};
-    f.unoccluded = s0.unoccluded && s1.unoccluded;
-    for (int k = 0; k < 3; ++k) {
-      const double c0 = facing[t[k]][0], c1 = facing[t[k]][1];
-      f.lead[0] = std::min(f.lead[0], c0 - c1), f.lead[1] = std::min(f.lead[1], c1 - c0);
-      f.max_cos[0] = std::max(f.max_cos[0], c0), f.max_cos[1] = std::max(f.max_cos[1], c1);
-    }
-    facts.push_back(f);
-  }
-  facts_for = o;
-  ordered_for.reset();
-}
-
-// The blend's share of the front photo pf is 1 (0) where cos0 - cos1 + bias >= feather (<= -),
-// and these cosines are interpolated linearly: the corners decide for the whole triangle.
-void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o, double bias) {
-  if (!facts_for || facts_for->visibility_tolerance_mm != o.visibility_tolerance_mm)
-    triangle_facts(o);
   const bool weighted = o.blend == Blend::Weighted;
   if (ordered_for && (ordered_for->blend == Blend::Weighted) == weighted &&
       ordered_for->feather_deg == o.feather_deg && ordered_bias == bias)
     return;
-  const double feather = feather_band(o);
-  std::array<std::vector<std::array<int, 3>>, 4> by_class;
-  for (size_t k = 0; k < triangles.size(); ++k) {
-    const TriangleFacts& f = facts[k];
-    // Pick / view: the leading photo alone when it covers the triangle fully. Weighted: a photo
-    // alone only where the other faces away.
-    const bool front_only = f.whole[0] && (weighted ? f.max_cos[1] <= 0 : f.lead[0] + bias >= feather);
-    const bool side_only = f.whole[1] && (weighted ? f.max_cos[0] <= 0 : f.lead[1] - bias >= feather);
-    const auto c = front_only     ? TriangleClass::kFrontOnly
-                   : side_only    ? TriangleClass::kSideOnly
-                   : f.unoccluded ? TriangleClass::kUnoccluded
-                                  : TriangleClass::kTested;
-    by_class[int(c)].push_back(triangles[k]);
-  }
-  std::vector<std::array<int, 3>> sorted;
-  for (int k = 0; k < 4; ++k) {
-    class_count[k] = GLsizei(3 * by_class[k].size());
-    sorted.insert(sorted.end(), by_class[k].begin(), by_class[k].end());
-  }
+  const TriangleOrder order = order_triangles(triangles, facts, {weighted, feather_band(o), bias});
+  for (int k = 0; k < 4; ++k) class_count[k] = GLsizei(3 * order.count[k]);
   glBindVertexArray(mesh.vao);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.ebo);
-  glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0, GLsizeiptr(sorted.size() * sizeof(sorted[0])),
-                  sorted.data());
+  glBufferSubData(GL_ELEMENT_ARRAY_BUFFER, 0,
+                  GLsizeiptr(order.triangles.size() * sizeof(order.triangles[0])),
+                  order.triangles.data());
   glBindVertexArray(0);
   ordered_for = o;
   ordered_bias = bias;
@@ -503,7 +244,7 @@ void ViewSynthesizer::Impl::order_triangles(const SynthesisOptions& o, double bi
 void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& side) {
   front.copyTo(src[0].raw);
   side.copyTo(src[1].raw);
-  for (SourceGl& s : src) upload_bgr(s.raw, s.mask, s.photo, s.photo_size);
+  for (detail::SourceGl& s : src) detail::upload_bgr(s.raw, s.mask, s.photo, s.photo_size);
   has_photos = true;
 }
 
@@ -512,7 +253,8 @@ void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& s
 void ViewSynthesizer::Impl::match_colours() {
   match = detail::colour_match(vertices, normals, rig, {src[0].depth, src[1].depth},
                                {src[0].raw, src[1].raw});
-  for (int i = 0; i < 2; ++i) upload_lut(detail::equalize_grid(match, i, kLutSize), src[i].lut);
+  for (int i = 0; i < 2; ++i)
+    detail::upload_lut(detail::equalize_grid(match, i, detail::kLutSize), src[i].lut);
 }
 
 // photo_eq = lookup(photo), one full-frame pass per source on the GL side (no CPU colour work).
@@ -522,8 +264,8 @@ void ViewSynthesizer::Impl::equalize_photos() {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glBindVertexArray(empty_vao);
-  for (SourceGl& s : src) {
-    ensure_target(s.photo_eq, s.photo_eq_size, s.eq_fbo, s.photo_size);
+  for (detail::SourceGl& s : src) {
+    detail::ensure_target(s.photo_eq, s.photo_eq_size, s.eq_fbo, s.photo_size);
     glBindFramebuffer(GL_FRAMEBUFFER, s.eq_fbo);
     glDrawBuffer(GL_COLOR_ATTACHMENT0);
     glViewport(0, 0, s.photo_size.width, s.photo_size.height);
@@ -613,8 +355,10 @@ void ViewSynthesizer::set_mesh(const model::TriMesh& mesh) {
   impl_->ordered_for.reset();  // mesh order
   impl_->facts_for.reset();
   impl_->normals = gl::vertex_normals(mesh);
-  impl_->find_footprints();
-  for (int i = 0; i < 2; ++i) impl_->render_source_depth(i);
+  for (int i = 0; i < 2; ++i) {
+    impl_->src[i].footprint = detail::photo_footprint(impl_->cam(i), impl_->vertices);
+    detail::render_source_depth(impl_->cam(i), impl_->mesh, impl_->depth_prog, impl_->src[i]);
+  }
   impl_->upload_seen();
   for (GLuint p : impl_->view_prog)
     if (p) impl_->source_uniforms(p);
@@ -748,7 +492,7 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CW);  // window y = image row (see gl::clip_from_head)
     glEnable(GL_CULL_FACE);
-    if (sorted) m.order_triangles(o, bias);
+    if (sorted) m.sort_elements(o, bias);
     glBindVertexArray(m.mesh.vao);
     if (!o.per_pixel_visibility) {
       draw(Visibility::kPerVertex, -1, 0, m.mesh.count);
@@ -800,53 +544,6 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   }
   if (!o.source_weights) r.weights.release();
   return r;
-}
-
-cv::Mat profile_mask(const vision::ViewObservation& side, bool faces_left) {
-  if (side.width <= 0 || side.height <= 0)
-    throw std::invalid_argument("profile mask: the side view has no image size");
-  if (side.boundary.size() < 2)
-    throw std::invalid_argument("profile mask: the side view has no profile (" +
-                                std::to_string(side.boundary.size()) + " points)");
-  // Per row the most frontal profile crossing (a hooked nose crosses a row more than once).
-  std::vector<double> front_x(side.height, std::numeric_limits<double>::quiet_NaN());
-  for (size_t k = 0; k + 1 < side.boundary.size(); ++k) {
-    const cv::Point2d a = side.boundary[k], b = side.boundary[k + 1];
-    const int r0 = std::max(0, int(std::ceil(std::min(a.y, b.y) - 0.5)));
-    const int r1 = std::min(side.height - 1, int(std::floor(std::max(a.y, b.y) - 0.5)));
-    for (int r = r0; r <= r1; ++r) {
-      const double y = r + 0.5, t = b.y == a.y ? 0.0 : (y - a.y) / (b.y - a.y);
-      const double x = a.x + t * (b.x - a.x);
-      double& f = front_x[r];
-      if (std::isnan(f) || (faces_left ? x < f : x > f)) f = x;
-    }
-  }
-  cv::Mat mask(side.height, side.width, CV_8U, cv::Scalar(255));
-  for (int r = 0; r < side.height; ++r) {
-    if (std::isnan(front_x[r])) continue;
-    const int edge = std::clamp(int(std::lround(front_x[r])), 0, side.width);  // first column
-    // behind (faces_left) or one past the last column in front of the profile
-    if (faces_left) mask.row(r).colRange(0, edge).setTo(0);
-    else mask.row(r).colRange(edge, side.width).setTo(0);
-  }
-  return mask;
-}
-
-capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left) {
-  if (side_faces_left) return rig;
-  gl::check_camera(rig.side, "photo rig: side camera");
-  // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
-  // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
-  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
-  capture::RigCalibration out = rig;
-  capture::CameraModel& c = out.side;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = flip * rig.side.cam_from_head.linear() * flip;
-  pose.translation() = flip * rig.side.cam_from_head.translation();
-  c.cam_from_head = pose;
-  c.cx = c.width - rig.side.cx;
-  if (c.distortion.size() >= 4) c.distortion[3] = -c.distortion[3];
-  return out;
 }
 
 SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,

@@ -10,7 +10,6 @@
 #include "capture/camera_model.h"
 #include "model/tri_mesh.h"
 #include "render/renderer.h"
-#include "vision/observation.h"
 
 namespace orthoface::render {
 
@@ -123,28 +122,6 @@ class ViewSynthesizer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// The rig that took the two photos, for texturing. The model works in the head frame with the
-// side camera at +x (the face on the side image's left); when that camera stood on the
-// subject's right instead (vision's FaceObservation::side_faces_left == false), the model
-// mirrored the side observation but the side photo itself is not mirrored, so it must be
-// projected from where it was taken: `rig` with its side camera reflected through the x = 0
-// plane (pose, principal point and tangential distortion p2), i.e. standing at -x. With
-// side_faces_left == true, `rig` unchanged.
-capture::RigCalibration photo_rig(const capture::RigCalibration& rig, bool side_faces_left);
-
-// The sign of the yaw (render::SynthesisOptions, capture::camera_at) that turns a new view
-// toward the side camera of `photo_rig` (the rig as the photos were taken, photo_rig()): +1 when
-// that camera stands at +x of the head frame (the subject's left), -1 at -x.
-double photographed_side_sign(const capture::RigCalibration& photo_rig);
-
-// The side photo's subject mask from vision's profile (the side ViewObservation's boundary,
-// forehead to throat, in the image as given): on each row the profile spans, the pixels from the
-// profile backwards (toward the image right when the face points to the image left,
-// `faces_left`, else toward the left); rows above and below it are all subject (not known
-// there). CV_8U 0 / 255 of the view's size. Throws std::invalid_argument when the view has no
-// size or fewer than 2 profile points.
-cv::Mat profile_mask(const vision::ViewObservation& side, bool faces_left);
 
 // One-off synthesis with a temporary context.
 SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,

@@ -240,6 +240,71 @@ TEST(RigFile, MalformedFieldsThrowNamingTheField) {
   }
 }
 
+// The view camera stands at the front camera's distance with its intrinsics.
+TEST(ViewCamera, IsTheFrontCameraTurnedAtItsDistance) {
+  RigCalibration rig;
+  rig.front = camera_at(perspective_intrinsics(), 0.0, 0.0, 750.0);
+  const CameraModel c = view_camera(rig, 30, -10);
+  const CameraModel expected = camera_at(rig.front, 30 * M_PI / 180, -10 * M_PI / 180, 750.0);
+  EXPECT_NEAR((c.cam_from_head.matrix() - expected.cam_from_head.matrix()).norm(), 0, 1e-9);
+  EXPECT_EQ(c.fx, rig.front.fx);
+  EXPECT_NEAR(c.cam_from_head.inverse().translation().norm(), 750.0, 1e-9);
+  EXPECT_EQ(view_camera(rig, 0, 0).cam_from_head.matrix(), rig.front.cam_from_head.matrix());
+}
+
+TEST(ViewCamera, AFrontCameraAtTheOriginStandsOneMillimetreOff) {
+  RigCalibration rig;  // identity pose: distance 0
+  rig.front = perspective_intrinsics();
+  EXPECT_NEAR(view_camera(rig, 45, 0).cam_from_head.inverse().translation().norm(), 1.0, 1e-12);
+  EXPECT_THROW(view_camera(rig, NAN, 0), std::invalid_argument);
+  EXPECT_THROW(view_camera(rig, 0, INFINITY), std::invalid_argument);
+}
+
+TEST(PhotographedSideSign, FollowsTheSideCamera) {
+  const RigCalibration rig = ideal_rig(640, 480, 1.6);
+  EXPECT_EQ(photographed_side_sign(rig), 1.0);                     // side camera at +x
+  EXPECT_EQ(photographed_side_sign(photo_rig(rig, false)), -1.0);  // reflected to -x
+  EXPECT_EQ(photographed_side_sign(photo_rig(rig, true)), 1.0);
+}
+
+// A side photo taken from the subject's right (-x): the model mirrors its observation into the
+// +x convention, photo_rig() puts the camera back where it stood.
+TEST(PhotoRig, ReflectsTheSideCameraToMinusX) {
+  const RigCalibration rig = ideal_rig(640, 480, 2.0);
+  EXPECT_EQ(photo_rig(rig, true).side.cam_from_head.matrix(), rig.side.cam_from_head.matrix());
+  const RigCalibration right = photo_rig(rig, false);
+  EXPECT_NEAR((view_direction(right.side) - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12);
+  const CameraModel at_minus_x = view_camera(rig, -90, 0);
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
+    const Eigen::Vector2d mirrored = project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
+    const Eigen::Vector2d seen = project(right.side, p);
+    EXPECT_NEAR(seen.x(), rig.side.width - mirrored.x(), 1e-9);  // columns mirrored
+    EXPECT_NEAR(seen.y(), mirrored.y(), 1e-9);
+    EXPECT_NEAR((seen - project(at_minus_x, p)).norm(), 0, 1e-9);
+  }
+}
+
+TEST(PhotoRig, TangentialDistortionIsReflected) {
+  RigCalibration rig;
+  rig.side = camera_at(perspective_intrinsics(), M_PI / 2, 0.0, 1000.0);
+  rig.side.distortion = {0.1, -0.05, 0.002, 0.003, 0.01};
+  const RigCalibration right = photo_rig(rig, false);
+  EXPECT_EQ(right.side.distortion, (std::vector<double>{0.1, -0.05, 0.002, -0.003, 0.01}));
+  const Eigen::Vector3d p(10, 20, 30);
+  const Eigen::Vector2d mirrored = project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
+  EXPECT_NEAR(project(right.side, p).x(), rig.side.width - mirrored.x(), 1e-9);
+}
+
+TEST(PhotoRig, RefusesABadSideCamera) {
+  RigCalibration bad = ideal_rig(640, 480, 2.0);
+  bad.side.width = 0;
+  EXPECT_THROW(photo_rig(bad, false), std::invalid_argument);
+  bad = ideal_rig(640, 480, 2.0);
+  bad.side.fx = NAN;
+  EXPECT_THROW(photo_rig(bad, false), std::invalid_argument);
+  EXPECT_NO_THROW(photo_rig(bad, true));  // unchanged: nothing to reflect
+}
+
 TEST(RigFile, EmptyFileThrows) {
   const fs::path dir = testing::temp_dir("rig_empty");
   write_text(dir / "empty.yaml", "");

@@ -120,13 +120,6 @@ TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   EXPECT_THROW(o.check(), std::invalid_argument);
 }
 
-TEST(NewView, PhotographedSideSignFollowsTheSideCamera) {
-  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.6);
-  EXPECT_EQ(photographed_side_sign(rig), 1.0);                    // side camera at +x
-  EXPECT_EQ(photographed_side_sign(photo_rig(rig, false)), -1.0);  // reflected to -x
-  EXPECT_EQ(photographed_side_sign(photo_rig(rig, true)), 1.0);
-}
-
 TEST(NewView, FortyFiveDegreesMatchesTheTrueView) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
@@ -457,29 +450,9 @@ TEST(NewView, BadInputsThrow) {
   EXPECT_NO_THROW(synth.render(s.rig.front));  // still usable
 }
 
-// A side photo taken from the subject's right (-x): the model mirrors its observation into the
-// +x convention, photo_rig() puts the camera back where it stood.
-TEST(NewView, PhotoRigReflectsTheSideCameraToMinusX) {
-  const capture::RigCalibration rig = capture::ideal_rig(640, 480, 2.0);
-  EXPECT_EQ(photo_rig(rig, true).side.cam_from_head.matrix(), rig.side.cam_from_head.matrix());
-  const capture::RigCalibration right = photo_rig(rig, false);
-  EXPECT_NEAR((capture::view_direction(right.side) - Eigen::Vector3d::UnitX()).norm(), 0, 1e-12);
-  const CameraModel at_minus_x = view(rig.front, -90);
-  for (const Eigen::Vector3d& p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
-    const Eigen::Vector2d mirrored = capture::project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
-    const Eigen::Vector2d seen = capture::project(right.side, p);
-    EXPECT_NEAR(seen.x(), rig.side.width - mirrored.x(), 1e-9);  // columns mirrored
-    EXPECT_NEAR(seen.y(), mirrored.y(), 1e-9);
-    EXPECT_NEAR((seen - capture::project(at_minus_x, p)).norm(), 0, 1e-9);
-  }
-  capture::RigCalibration bad = rig;
-  bad.side.width = 0;
-  EXPECT_THROW(photo_rig(bad, false), std::invalid_argument);
-}
-
 TEST(NewView, SidePhotoFromTheRightTexturesTheRightSide) {
   capture::RigCalibration taken = capture::ideal_rig(640, 480, 2.0);
-  taken.side = photo_rig(taken, false).side;
+  taken.side = capture::photo_rig(taken, false).side;
   const Scene s = make_scene(uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 48, 96, 512), taken);
   const CameraModel cam = view(s.rig.front, -45);
   const RenderResult truth = render_once(s.textured, cam);
@@ -510,29 +483,6 @@ TEST(NewView, PhotoMasksKeepColourFromOutsideTheSubject) {
   EXPECT_THROW(synth.set_photo_masks(cv::Mat::zeros(10, 10, CV_8U), {}), std::invalid_argument);
   EXPECT_THROW(synth.set_photo_masks({}, cv::Mat::zeros(s.side.size(), CV_8UC3)),
                std::invalid_argument);
-}
-
-TEST(NewView, ProfileMaskKeepsThePixelsBehindTheProfile) {
-  vision::ViewObservation side;
-  side.width = 40;
-  side.height = 30;
-  side.boundary = {{20, 10}, {10, 15}, {20, 20}};  // a nose pointing left at row 15
-  const cv::Mat left = profile_mask(side, true);
-  EXPECT_EQ(left.at<uchar>(5, 0), 255);    // above the profile: not known, kept
-  EXPECT_EQ(left.at<uchar>(15, 9), 0);     // in front of the nose tip
-  EXPECT_EQ(left.at<uchar>(15, 11), 255);  // behind it
-  EXPECT_EQ(left.at<uchar>(11, 16), 0);    // in front of the upper slope (x = 17 at y = 11.5)
-  EXPECT_EQ(left.at<uchar>(11, 17), 255);
-  const cv::Mat right = profile_mask(side, false);
-  EXPECT_EQ(right.at<uchar>(15, 9), 255);
-  EXPECT_EQ(right.at<uchar>(15, 11), 0);
-  EXPECT_EQ(right.at<uchar>(25, 39), 255);  // below the profile
-  vision::ViewObservation empty = side;
-  empty.boundary.resize(1);
-  EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
-  empty = side;
-  empty.width = 0;
-  EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
 }
 
 // Triangles sorted out as one photo alone or unoccluded are drawn by cheaper programs: the
@@ -610,7 +560,7 @@ TEST(NewView, MirroredSidePhotoColoursTheSideNeverPhotographed) {
   SynthesisOptions o;
   o.source_weights = true;
   o.float_textures = false;
-  const double far_side = -90 * photographed_side_sign(s.rig);
+  const double far_side = -90 * capture::photographed_side_sign(s.rig);
   const CameraModel cam = view(s.rig.front, far_side);
   auto side_share = [](const SynthesisResult& r) {
     cv::Mat share;

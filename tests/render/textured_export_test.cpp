@@ -55,9 +55,9 @@ TEST(TexturedExport, TrianglesInheritFromThePhotoTheyFace) {
     const Eigen::Vector3d dir(c.x() / 70, c.y() / 100, c.z() / 85);  // ~ outward
     const int s = m.source[t];
     ++counts[s + 1];
-    if (dir.z() > 0.3 && dir.z() > dir.x() + 0.2) EXPECT_EQ(s, 0) << t;
-    if (dir.x() > 0.3 && dir.x() > dir.z() + 0.2) EXPECT_EQ(s, 1) << t;
-    if (dir.x() < -0.2 && dir.z() < -0.2) EXPECT_EQ(s, -1) << t;
+    if (dir.z() > 0.3 && dir.z() > dir.x() + 0.2) { EXPECT_EQ(s, 0) << t; }
+    if (dir.x() > 0.3 && dir.x() > dir.z() + 0.2) { EXPECT_EQ(s, 1) << t; }
+    if (dir.x() < -0.2 && dir.z() < -0.2) { EXPECT_EQ(s, -1) << t; }
   }
   EXPECT_GT(counts[0], 500);  // fill
   EXPECT_GT(counts[1], 500);  // front
