@@ -93,8 +93,8 @@ GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& dista
       double best = 0.0;
       for (int f : tr.vertex_faces[vertex]) {
         const Vec g = tr.gradient(f);
-        int a, b;
-        double wf;
+        int a = -1, b = -1;
+        double wf = 0.0;
         if (g.norm() > best && tr.exit_point(f, p, -g, vertex, vertex, a, b, wf) &&
             a != vertex && b != vertex)
           best = g.norm(), next_f = f, na = a, nb = b, w = wf;

@@ -51,7 +51,7 @@ TEST(SegmentByFeaturePoints, SphereSplitsIntoHalvesAndSixths) {
   const std::vector<FeaturePoint> two = {{"9.3", {0, 0, 20}}, {"11.6", {0, 0, -20}}};
   const Segmentation s = segment_by_feature_points(m, two);
   for (size_t v = 0; v < m.vertices.size(); ++v)
-    if (std::abs(m.vertices[v].z()) > 1e-6) EXPECT_EQ(s.label[v], m.vertices[v].z() > 0 ? 0 : 1);
+    if (std::abs(m.vertices[v].z()) > 1e-6) { EXPECT_EQ(s.label[v], m.vertices[v].z() > 0 ? 0 : 1); }
   EXPECT_NEAR(s.percent[0] + s.percent[1], 100.0, 1e-9);
   EXPECT_EQ(s.count[0] + s.count[1], 642);
   std::vector<FeaturePoint> six;
@@ -73,7 +73,7 @@ TEST(SegmentByFeaturePoints, SmoothWeightsSumToOneAndPeakAtThePoint) {
   int top = 0;
   for (size_t v = 0; v < m.vertices.size(); ++v) {
     const double sum = s.weights[0][v] + s.weights[1][v];
-    if (sum > 0) EXPECT_NEAR(sum, 1.0, 1e-9);
+    if (sum > 0) { EXPECT_NEAR(sum, 1.0, 1e-9); }
     if (m.vertices[v].z() > m.vertices[top].z()) top = int(v);
   }
   EXPECT_GT(s.weights[0][top], 0.96);  // 1 / (1 + exp(-(25 pi)^2 / (2 30^2))) = 0.968

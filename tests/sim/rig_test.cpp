@@ -239,8 +239,9 @@ TEST(Rig, VisibilityFollowsTheDepthTest) {
   for (const auto& [name, t] : lm) {
     if (!t.visible_front) continue;
     const float d = cap.front_depth_mm.at<float>(int(t.front_px.y()), int(t.front_px.x()));
-    if (name != "ear_left_top" && name != "ear_right_top")  // silhouette points: steep depth
+    if (name != "ear_left_top" && name != "ear_right_top") {  // silhouette points: steep depth
       EXPECT_NEAR(d, capture::depth(cap.true_rig.front, t.xyz_mm), 1.0) << name;
+    }
   }
 }
 

@@ -159,7 +159,7 @@ TEST(Observe, ConsensusTakesEachFeatureFromOneOfTheTwoDetectors) {
       ++from_filters;
     } else {
       EXPECT_LT(cv::norm(f.px - b->second.px), moved ? 0.08 * eyes : 1e-9) << name;
-      if (!a.mirrored) EXPECT_GT(cv::norm(f.px - a.px), 0.06 * eyes) << name;
+      if (!a.mirrored) { EXPECT_GT(cv::norm(f.px - a.px), 0.06 * eyes) << name; }
       ++from_network;
     }
   }
@@ -263,7 +263,7 @@ TEST(Haar, FrontalFaceOnSimAndMissingCascades) {
   // and either way the option must leave a complete observation (and say when no face was found).
   const auto face = ov::haar_face(cap.front, dir, false);
   const auto& tip = cap.landmarks.at("nose_tip").front_px;
-  if (face) EXPECT_TRUE(face->contains(cv::Point(int(tip.x()), int(tip.y()))));
+  if (face) { EXPECT_TRUE(face->contains(cv::Point(int(tip.x()), int(tip.y())))); }
   ov::ObserveOptions o;
   o.use_haar = true;
   const ov::FaceObservation obs = ov::observe(cap.front, cap.side, o);
