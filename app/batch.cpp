@@ -28,7 +28,8 @@ namespace {
 constexpr int kTagDone = 1;
 
 const char* kUsage =
-    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.png + side.png [+ rig.yaml])\n"
+    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.png + side.png [+ "
+    "rig.yaml])\n"
     "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
     "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n";
 
@@ -96,7 +97,8 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       app::ReconstructOptions o;
-      if (fs::exists(items[i] / "rig.yaml")) o.rig = capture::read_rig((items[i] / "rig.yaml").string());
+      if (fs::exists(items[i] / "rig.yaml"))
+        o.rig = capture::read_rig((items[i] / "rig.yaml").string());
       const cv::Mat front = cv::imread((items[i] / "front.png").string());
       const cv::Mat side = cv::imread((items[i] / "side.png").string());
       const app::Reconstruction r = app::reconstruct(front, side, o);
@@ -105,7 +107,8 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
     } catch (const std::exception& e) {
       std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
     }
-    ms[i] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ms[i] =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     item_done(rank, progress);
   }
   gather_status(status, ms);
@@ -115,7 +118,8 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
   int ok = 0;
   for (int i = 0; i < n; ++i) {
     ok += status[i] > 0.5;
-    j["items"].push_back({{"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}});
+    j["items"].push_back(
+        {{"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}});
   }
   j["ok"] = ok;
   std::ofstream(out / "batch_report.json") << j.dump(2) << "\n";
@@ -150,7 +154,8 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
     } catch (const std::exception& e) {
       std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
     }
-    ms[i] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    ms[i] =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     item_done(rank, progress);
   }
   std::vector<double> all(metrics.size());
@@ -169,7 +174,8 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
       for (int j = 0; j < n; ++j) {
         model::FaceSignature a, b;
         auto fill = [&](model::FaceSignature& s, int m) {
-          s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len, all.begin() + (size_t(m) * 4 + k + 1) * len);
+          s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len,
+                        all.begin() + (size_t(m) * 4 + k + 1) * len);
           s.gaussian = s.shape_index = s.curvedness = s.mean;
         };
         fill(a, i), fill(b, j);
@@ -181,7 +187,8 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   }
   int ok = 0;
   for (double s : status) ok += s > 0.5;
-  std::printf("batch: %d / %d signatures on %d rank(s) -> %s/similarity_*.csv\n", ok, n, size, out.c_str());
+  std::printf("batch: %d / %d signatures on %d rank(s) -> %s/similarity_*.csv\n", ok, n, size,
+              out.c_str());
   return ok == n ? 0 : 1;
 }
 

@@ -25,7 +25,8 @@ Command calibrate_command() {
           "moment (front/NNN.png with side/NNN.png, by sorted name), or live from two cameras. "
           "Show the board to each camera at several angles, and hold it at about 45 deg so both "
           "see it in some pairs.",
-          "orthoface calibrate (--front-images DIR --side-images DIR | --front DEV --side DEV) --out rig.yaml",
+          "orthoface calibrate (--front-images DIR --side-images DIR | --front DEV --side DEV) "
+          "--out rig.yaml",
           {{"front-images", true, "DIR  front camera images"},
            {"side-images", true, "DIR  side camera images (same count, same order)"},
            {"front", true, "DEV  live front camera"},
@@ -59,7 +60,8 @@ std::vector<cv::Mat> read_folder(const std::string& dir, const std::string& flag
 void live_views(const Args& a, std::vector<cv::Mat>& front, std::vector<cv::Mat>& side) {
   sim::register_sim_cameras();
   const int views = a.has("views") ? to_int("views", a.get("views"), 1, 500) : 20;
-  const double interval = a.has("interval") ? to_double("interval", a.get("interval"), 0.1, 60) : 1.5;
+  const double interval =
+      a.has("interval") ? to_double("interval", a.get("interval"), 0.1, 60) : 1.5;
   capture::PairCapture pc(a.get("front"), a.get("side"));
   for (int i = 0; i < views; ++i) {
     std::this_thread::sleep_for(std::chrono::duration<double>(i ? interval : 0.0));
@@ -86,7 +88,8 @@ int run_calibrate(int argc, char** argv) {
   const bool live = a.has("front") || a.has("side");
   if (files == live || (files && !(a.has("front-images") && a.has("side-images"))) ||
       (live && !(a.has("front") && a.has("side"))))
-    throw std::invalid_argument("calibrate: give --front-images and --side-images, or --front and --side");
+    throw std::invalid_argument(
+        "calibrate: give --front-images and --side-images, or --front and --side");
   capture::CalibrationOptions o;
   if (a.has("board")) std::tie(o.board.cols, o.board.rows) = to_size("board", a.get("board"), 64);
   if (a.has("square")) o.board.square_mm = to_double("square", a.get("square"), 0.1, 999);
@@ -102,13 +105,17 @@ int run_calibrate(int argc, char** argv) {
   }
   const capture::RigCalibrationReport r = capture::calibrate_rig(front, side, o);
   capture::write_rig(r.rig, a.get("out"));
-  std::printf("rig written: %s\nviews: front %d, side %d, both %d\nreprojection rms: front %.3f px, side %.3f px, "
-              "stereo %.3f px\nfocal: front %.1f px, side %.1f px\nbaseline %.1f mm, angle between cameras %.2f deg\n"
-              "predicted translation sd: %.2f %.2f %.2f mm\n",
-              a.get("out").c_str(), r.views_front, r.views_side, r.views_shared, r.rms_front_px, r.rms_side_px,
-              r.rms_stereo_px, r.rig.front.fx, r.rig.side.fx, r.side_from_front.translation().norm(),
-              Eigen::AngleAxisd(r.side_from_front.linear()).angle() * 180 / M_PI, r.translation_sd_mm.x(),
-              r.translation_sd_mm.y(), r.translation_sd_mm.z());
+  std::printf(
+      "rig written: %s\nviews: front %d, side %d, both %d\nreprojection rms: front %.3f px, side "
+      "%.3f px, "
+      "stereo %.3f px\nfocal: front %.1f px, side %.1f px\nbaseline %.1f mm, angle between cameras "
+      "%.2f deg\n"
+      "predicted translation sd: %.2f %.2f %.2f mm\n",
+      a.get("out").c_str(), r.views_front, r.views_side, r.views_shared, r.rms_front_px,
+      r.rms_side_px, r.rms_stereo_px, r.rig.front.fx, r.rig.side.fx,
+      r.side_from_front.translation().norm(),
+      Eigen::AngleAxisd(r.side_from_front.linear()).angle() * 180 / M_PI, r.translation_sd_mm.x(),
+      r.translation_sd_mm.y(), r.translation_sd_mm.z());
   for (const std::string& w : r.warnings) std::printf("warning: %s\n", w.c_str());
   return 0;
 }

@@ -41,9 +41,11 @@ int run_capture(int argc, char** argv) {
     return 0;
   }
   for (const char* flag : {"front", "side", "out"})
-    if (!a.has(flag)) throw std::invalid_argument(std::string("capture: --") + flag + " is required");
+    if (!a.has(flag))
+      throw std::invalid_argument(std::string("capture: --") + flag + " is required");
   if (capture::same_device(a.get("front"), a.get("side")))
-    throw std::invalid_argument("capture: --front and --side are the same device (" + a.get("front") + ")");
+    throw std::invalid_argument("capture: --front and --side are the same device (" +
+                                a.get("front") + ")");
   capture::PairCaptureOptions o;
   if (a.has("size")) std::tie(o.width, o.height) = to_size("size", a.get("size"), 8192);
   if (a.has("fps")) o.fps = to_double("fps", a.get("fps"), 1, 240);
@@ -60,7 +62,9 @@ int run_capture(int argc, char** argv) {
     capture::PairCapture pc(a.get("front"), a.get("side"), o);
     pair = pc.take_pair(timeout);
   }
-  if (!pair) throw std::runtime_error("capture: no synchronized pair within " + std::to_string(timeout) + " s");
+  if (!pair)
+    throw std::runtime_error("capture: no synchronized pair within " + std::to_string(timeout) +
+                             " s");
   save_pair(*pair, pair_dir);
   std::printf("pair saved: %s (skew %.1f ms)\n", pair_dir.c_str(), pair->skew_s * 1e3);
   if (a.has("no-reconstruct")) return 0;
@@ -70,7 +74,8 @@ int run_capture(int argc, char** argv) {
     const Reconstruction r = reconstruct(pair->front.image, pair->side.image, ro);
     write_reconstruction(r, out + "/model");
   } catch (const std::exception& e) {
-    throw std::runtime_error(std::string(e.what()) + " (the captured pair is kept in " + pair_dir + ")");
+    throw std::runtime_error(std::string(e.what()) + " (the captured pair is kept in " + pair_dir +
+                             ")");
   }
   std::printf("model written: %s/model\n", out.c_str());
   return 0;

@@ -36,8 +36,8 @@ Args parse_args(const Command& command, int argc, char** argv) {
       for (const Flag& f : command.flags)
         if (f.name == name) flag = &f;
       if (!flag)
-        throw std::invalid_argument(command.name + ": unknown flag --" + name +
-                                    " (see orthoface " + command.name + " --help)");
+        throw std::invalid_argument(command.name + ": unknown flag --" + name + " (see orthoface " +
+                                    command.name + " --help)");
       if (flag->takes_value && !inline_value) {
         if (i + 1 >= argc)
           throw std::invalid_argument(command.name + ": flag --" + name + " needs a value");
@@ -57,7 +57,8 @@ Args parse_args(const Command& command, int argc, char** argv) {
       for (const Flag& f : command.flags)
         if (f.name == a.substr(1)) flag = &f;
       if (!flag) throw std::invalid_argument(command.name + ": unknown flag " + a);
-      if (i + 1 >= argc) throw std::invalid_argument(command.name + ": flag " + a + " needs a value");
+      if (i + 1 >= argc)
+        throw std::invalid_argument(command.name + ": flag " + a + " needs a value");
       args.values[flag->name] = argv[++i];
       continue;
     }
@@ -98,8 +99,8 @@ int to_int(const std::string& flag, const std::string& text, int min, int max) {
   if (text.empty() || *end != '\0' || errno == ERANGE)
     throw std::invalid_argument("--" + flag + ": expected an integer, got '" + text + "'");
   if (v < min || v > max)
-    throw std::invalid_argument("--" + flag + ": " + text + " is outside [" +
-                                std::to_string(min) + ", " + std::to_string(max) + "]");
+    throw std::invalid_argument("--" + flag + ": " + text + " is outside [" + std::to_string(min) +
+                                ", " + std::to_string(max) + "]");
   return static_cast<int>(v);
 }
 
@@ -110,8 +111,8 @@ double to_double(const std::string& flag, const std::string& text, double min, d
     throw std::invalid_argument("--" + flag + ": expected a number, got '" + text + "'");
   if (v < min || v > max) {
     char buf[160];
-    std::snprintf(buf, sizeof buf, "--%s: %s is outside [%g, %g]", flag.c_str(), text.c_str(),
-                  min, max);
+    std::snprintf(buf, sizeof buf, "--%s: %s is outside [%g, %g]", flag.c_str(), text.c_str(), min,
+                  max);
     throw std::invalid_argument(buf);
   }
   return v;
@@ -125,8 +126,8 @@ std::pair<int, int> to_size(const std::string& flag, const std::string& text, in
   try {
     return {to_int(flag, w, 1, max_side), to_int(flag, h, 1, max_side)};
   } catch (const std::invalid_argument&) {
-    throw std::invalid_argument("--" + flag + ": size '" + text + "' must be WxH with each side in 1.." +
-                                std::to_string(max_side));
+    throw std::invalid_argument("--" + flag + ": size '" + text +
+                                "' must be WxH with each side in 1.." + std::to_string(max_side));
   }
 }
 
@@ -137,7 +138,8 @@ void prepare_output_dir(const std::string& dir) {
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     throw std::runtime_error("output folder " + dir + ": exists and is not a folder");
   fs::create_directories(dir, ec);
-  if (ec) throw std::runtime_error("output folder " + dir + ": cannot create (" + ec.message() + ")");
+  if (ec)
+    throw std::runtime_error("output folder " + dir + ": cannot create (" + ec.message() + ")");
   const fs::path probe = fs::path(dir) / ".orthoface-write-probe";
   {
     std::ofstream f(probe);
@@ -149,7 +151,8 @@ void prepare_output_dir(const std::string& dir) {
 void require_file(const std::string& path, const std::string& what) {
   std::error_code ec;
   if (path.empty()) throw std::runtime_error(what + ": no path given");
-  if (!std::filesystem::exists(path, ec)) throw std::runtime_error(what + " " + path + ": no such file");
+  if (!std::filesystem::exists(path, ec))
+    throw std::runtime_error(what + " " + path + ": no such file");
   if (!std::filesystem::is_regular_file(path, ec))
     throw std::runtime_error(what + " " + path + ": not a regular file");
 }

@@ -8,9 +8,9 @@ namespace orthoface::app {
 
 // One flag of a command: "--name VALUE" when takes_value, else "--name".
 struct Flag {
-  std::string name;     // without the leading dashes
+  std::string name;  // without the leading dashes
   bool takes_value = true;
-  std::string help;     // one line for --help; a value placeholder may lead: "DIR  output folder"
+  std::string help;  // one line for --help; a value placeholder may lead: "DIR  output folder"
 };
 
 struct Command {

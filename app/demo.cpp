@@ -2,11 +2,11 @@
 // Perry-Smith scan when the data is present) -> front / side photos -> vision -> adapted model
 // -> new views at 0..90 degrees by texture inheritance, each scored against the true view ->
 // one contact sheet and a summary. Each stage is one function.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -14,8 +14,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "app/cli.h"
-#include "app/pipeline.h"
 #include "app/commands.h"
+#include "app/pipeline.h"
 #include "app/sim_args.h"
 #include "model/evaluate.h"
 #include "render/contact_sheet.h"
@@ -112,8 +112,7 @@ void model_stage(std::vector<DemoSubject>& subjects) {
     }
     if (!s.head.landmarks.count("forehead_top") || !s.head.landmarks.count("chin_bottom")) continue;
     const model::FaceRegion region = model::face_region(s.head.landmarks);
-    s.relative_error =
-        model::reconstruction_error(s.model->mesh, s.head.mesh, region).relative;
+    s.relative_error = model::reconstruction_error(s.model->mesh, s.head.mesh, region).relative;
   }
 }
 
@@ -126,7 +125,8 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
     const vision::FaceObservation& obs = s.model->observation;
-    render::ViewSynthesizer synth(s.model->mesh, capture::photo_rig(s.model->rig, obs.side_faces_left),
+    render::ViewSynthesizer synth(s.model->mesh,
+                                  capture::photo_rig(s.model->rig, obs.side_faces_left),
                                   s.model->front, s.model->side);
     if (obs.side.boundary.size() >= 2)
       synth.set_photo_masks({}, vision::profile_mask(obs.side, obs.side_faces_left));
@@ -151,8 +151,10 @@ cv::Rect subject_crop(const DemoSubject& s) {
   if (box.area() == 0) return image;
   const double pad = 0.06 * std::max(box.width, box.height);
   double w = box.width + 2 * pad, h = box.height + 2 * pad;
-  if (w < h * 4 / 3) w = h * 4 / 3;
-  else h = w * 3 / 4;
+  if (w < h * 4 / 3)
+    w = h * 4 / 3;
+  else
+    h = w * 3 / 4;
   const cv::Point2d c(box.x + box.width / 2.0, box.y + box.height / 2.0);
   return cv::Rect(cv::Point(int(c.x - w / 2), int(c.y - h / 2)), cv::Size(int(w), int(h))) & image;
 }
@@ -167,13 +169,13 @@ cv::Mat sheet_stage(const std::vector<DemoSubject>& subjects) {
     tiles.push_back({s.capture.front(crop), s.label + ": front photo"});
     tiles.push_back({s.capture.side(crop), s.label + ": side photo"});
     for (size_t i = 0; i < s.truth_views.size(); ++i)
-      tiles.push_back({s.truth_views[i].image(crop),
-                       "truth yaw " + std::to_string(int(kViewYawsDeg[i]))});
+      tiles.push_back(
+          {s.truth_views[i].image(crop), "truth yaw " + std::to_string(int(kViewYawsDeg[i]))});
     if (s.model) {
-      tiles.push_back({vision::overlay_front(s.capture.front, s.model->observation)(crop),
-                       "found in front"});
-      tiles.push_back({vision::overlay_side(s.capture.side, s.model->observation)(crop),
-                       "found in side"});
+      tiles.push_back(
+          {vision::overlay_front(s.capture.front, s.model->observation)(crop), "found in front"});
+      tiles.push_back(
+          {vision::overlay_side(s.capture.side, s.model->observation)(crop), "found in side"});
     } else {
       tiles.push_back({cv::Mat(), "reconstruction failed"});
       tiles.push_back({cv::Mat(), ""});
@@ -193,8 +195,9 @@ cv::Mat sheet_stage(const std::vector<DemoSubject>& subjects) {
   o.tile_width = 240;
   o.tile_height = 180;
   o.font_scale = 0.4;
-  o.title = "orthoface demo: photos and true views (top), found features and synthesized views "
-            "(bottom)";
+  o.title =
+      "orthoface demo: photos and true views (top), found features and synthesized views "
+      "(bottom)";
   return render::contact_sheet(tiles, o);
 }
 
@@ -234,8 +237,7 @@ void print_summary(const std::vector<DemoSubject>& subjects) {
       std::printf("  %-22s reconstruction failed: %s\n", s.label.c_str(), s.failure.c_str());
       continue;
     }
-    std::printf("  %-22s relative error %s   yaw %d: PSNR %.1f dB, SSIM %.3f\n",
-                s.label.c_str(),
+    std::printf("  %-22s relative error %s   yaw %d: PSNR %.1f dB, SSIM %.3f\n", s.label.c_str(),
                 s.relative_error >= 0
                     ? (std::to_string(s.relative_error * 100).substr(0, 4) + " %").c_str()
                     : "n/a   ",
@@ -254,7 +256,8 @@ void print_summary(const std::vector<DemoSubject>& subjects) {
 int run_demo(int argc, char** argv) {
   const Command command{
       "demo",
-      "The whole pipeline on the simulated rig: heads (seeds 0-2, and the Lee Perry-Smith scan when "
+      "The whole pipeline on the simulated rig: heads (seeds 0-2, and the Lee Perry-Smith scan "
+      "when "
       "../shared/data has it) -> front/side photos -> vision -> model -> new views at 0..90 deg, "
       "scored against the true views; writes per subject sim/, model/, views/ and "
       "contact_sheet.png.",
@@ -296,10 +299,11 @@ int run_demo(int argc, char** argv) {
   const std::string sheet_path = (std::filesystem::path(out) / "contact_sheet.png").string();
   render::write_png(sheet, sheet_path);
   times.write = seconds_since(t);
-  std::printf("demo: %zu subjects -> %s in %.2f s (heads %.2f, rig %.2f, truth views %.2f, "
-              "vision+model %.2f, new views %.2f, write %.2f s)\n",
-              subjects.size(), sheet_path.c_str(), seconds_since(t0), times.heads, times.rig,
-              times.truth, times.model, times.synth, times.write);
+  std::printf(
+      "demo: %zu subjects -> %s in %.2f s (heads %.2f, rig %.2f, truth views %.2f, "
+      "vision+model %.2f, new views %.2f, write %.2f s)\n",
+      subjects.size(), sheet_path.c_str(), seconds_since(t0), times.heads, times.rig, times.truth,
+      times.model, times.synth, times.write);
   print_summary(subjects);
   for (const DemoSubject& s : subjects)
     if (!s.model) return 1;

@@ -25,11 +25,13 @@ const Command kDetect{
      {"out", true, "DIR  output folder: observation.json, overlay_front.png, overlay_side.png"},
      {"background-front", true, "F  empty-scene frame of the front camera (background difference)"},
      {"background-side", true, "F  empty-scene frame of the side camera"},
-     {"side-camera", true, "left|right  where the side camera stands (default: decided from the image)"},
-     {"landmarker", true, "filters|network|consensus  the front features' detector: the seed's "
-                               "filters placed by the profile's rows, a trained 68-point network "
-                               "(MIT weights, vision/models), or both (default: the filters' points "
-                               "the network confirms, else the network's; the profile's midline)"},
+     {"side-camera", true,
+      "left|right  where the side camera stands (default: decided from the image)"},
+     {"landmarker", true,
+      "filters|network|consensus  the front features' detector: the seed's "
+      "filters placed by the profile's rows, a trained 68-point network "
+      "(MIT weights, vision/models), or both (default: the filters' points "
+      "the network confirms, else the network's; the profile's midline)"},
      {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
     0};
 
@@ -64,8 +66,10 @@ int run_detect(int argc, char** argv) {
   }
   const cv::Mat front = vision::read_image(args.get("front"));
   const cv::Mat side = vision::read_image(args.get("side"));
-  if (args.has("background-front")) options.background_front = vision::read_image(args.get("background-front"));
-  if (args.has("background-side")) options.background_side = vision::read_image(args.get("background-side"));
+  if (args.has("background-front"))
+    options.background_front = vision::read_image(args.get("background-front"));
+  if (args.has("background-side"))
+    options.background_side = vision::read_image(args.get("background-side"));
   options.check();
   const vision::FaceObservation obs = vision::observe(front, side, options);
   const std::filesystem::path out = args.get("out");
@@ -81,8 +85,9 @@ int run_detect(int argc, char** argv) {
             << (out / "observation.json").string() << "\n";
   for (const auto& w : obs.warnings) std::cout << "  warning: " << w << "\n";
   if (obs.front.boundary.empty() && obs.side.boundary.empty()) {
-    std::cerr << "error: no face found in '" << args.get("front") << "' nor in '" << args.get("side")
-              << "' (report written to " << (out / "observation.json").string() << ")\n";
+    std::cerr << "error: no face found in '" << args.get("front") << "' nor in '"
+              << args.get("side") << "' (report written to " << (out / "observation.json").string()
+              << ")\n";
     return 1;
   }
   if (!complete) std::cout << "  incomplete: " << missing << "\n";

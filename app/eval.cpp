@@ -41,7 +41,8 @@ cv::Mat error_picture(const model::TriMesh& colored, const capture::CameraModel&
   o.background = cv::Scalar(255, 255, 255);
   o.light.ambient = 0.7, o.light.diffuse = 0.4;
   const double distance = front.projection == capture::Projection::Perspective
-                              ? front.cam_from_head.translation().norm() : 1000.0;
+                              ? front.cam_from_head.translation().norm()
+                              : 1000.0;
   cv::Mat a = renderer.render(colored, capture::camera_at(front, 0, 0, distance), o).image;
   cv::Mat b = renderer.render(colored, capture::camera_at(front, -M_PI / 3, 0, distance), o).image;
   cv::Mat both;
@@ -58,7 +59,8 @@ int run_eval(int argc, char** argv) {
     print_help(command);
     return 0;
   }
-  if (args.positional.size() != 1) throw std::invalid_argument("eval: give the reconstruction folder DIR");
+  if (args.positional.size() != 1)
+    throw std::invalid_argument("eval: give the reconstruction folder DIR");
   if (!args.has("truth")) throw std::invalid_argument("eval: --truth SIMDIR|MESH is required");
   const double range = args.has("range") ? to_double("range", args.get("range"), 0.01, 1000) : 3.0;
   const fs::path dir = args.positional[0];
@@ -91,19 +93,25 @@ int run_eval(int argc, char** argv) {
   const std::string png_tmp = (dir / "error.tmp.png").string();
   if (!cv::imwrite(png_tmp, picture)) throw std::runtime_error("cannot write " + png_tmp);
   fs::rename(png_tmp, dir / "error.png");
-  const nlohmann::json j = {{"relative_error", e.relative}, {"mean_mm", e.mean_mm},
-                            {"rms_mm", e.rms_mm}, {"max_mm", e.max_mm},
-                            {"diagonal_mm", e.diagonal_mm}, {"samples", e.samples},
-                            {"landmark_mean_mm", e.landmark_mean_mm}, {"landmark_mm", e.landmark_mm},
-                            {"truth", truth_path.string()},
-                            {"region", {{"y_top", region.y_top}, {"y_bottom", region.y_bottom},
-                                        {"z_min", region.z_min}}}};
+  const nlohmann::json j = {
+      {"relative_error", e.relative},
+      {"mean_mm", e.mean_mm},
+      {"rms_mm", e.rms_mm},
+      {"max_mm", e.max_mm},
+      {"diagonal_mm", e.diagonal_mm},
+      {"samples", e.samples},
+      {"landmark_mean_mm", e.landmark_mean_mm},
+      {"landmark_mm", e.landmark_mm},
+      {"truth", truth_path.string()},
+      {"region",
+       {{"y_top", region.y_top}, {"y_bottom", region.y_bottom}, {"z_min", region.z_min}}}};
   const fs::path json_tmp = dir / "eval.json.tmp";
   std::ofstream(json_tmp) << j.dump(2) << "\n";
   fs::rename(json_tmp, dir / "eval.json");
-  std::printf("eval: relative error %.3f%% (mean %.2f mm / diagonal %.1f mm), landmarks %.2f mm "
-              "mean over %zu\n", 100 * e.relative, e.mean_mm, e.diagonal_mm, e.landmark_mean_mm,
-              e.landmark_mm.size());
+  std::printf(
+      "eval: relative error %.3f%% (mean %.2f mm / diagonal %.1f mm), landmarks %.2f mm "
+      "mean over %zu\n",
+      100 * e.relative, e.mean_mm, e.diagonal_mm, e.landmark_mean_mm, e.landmark_mm.size());
   return 0;
 }
 

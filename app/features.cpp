@@ -37,19 +37,25 @@ nlohmann::json report_json(const model::TriMesh& mesh, const model::FeatureRepor
     return v ? nlohmann::json{{"vertex", *v}, {"position", vec(mesh.vertices[*v])}}
              : nlohmann::json(nullptr);
   };
-  j["key_vertices"] = {{"P1_ear_left", key(r.ear_left)}, {"P2_ear_right", key(r.ear_right)},
+  j["key_vertices"] = {{"P1_ear_left", key(r.ear_left)},
+                       {"P2_ear_right", key(r.ear_right)},
                        {"P4_nose_tip", key(r.nose_tip)}};
   if (r.axes_found) {
     j["key_vertices"]["P3_ear_midpoint"] = vec(r.ear_midpoint);
-    j["axes"] = {{"origin", vec(r.ear_midpoint)}, {"left", vec(r.axes.col(0))},
-                 {"up", vec(r.axes.col(1))}, {"forward", vec(r.axes.col(2))}};
+    j["axes"] = {{"origin", vec(r.ear_midpoint)},
+                 {"left", vec(r.axes.col(0))},
+                 {"up", vec(r.axes.col(1))},
+                 {"forward", vec(r.axes.col(2))}};
     j["symmetry_plane"] = {{"normal", vec(r.symmetry_plane.head<3>())},
-                           {"d", r.symmetry_plane[3]}, {"mirror_error", r.symmetry_error}};
+                           {"d", r.symmetry_plane[3]},
+                           {"mirror_error", r.symmetry_error}};
   }
   j["feature_points"] = nlohmann::json::array();
   for (const auto& p : r.points)
-    j["feature_points"].push_back({{"name", p.name}, {"description", p.description},
-                                   {"vertex", p.vertex}, {"position", vec(p.position)}});
+    j["feature_points"].push_back({{"name", p.name},
+                                   {"description", p.description},
+                                   {"vertex", p.vertex},
+                                   {"position", vec(p.position)}});
   j["missing"] = r.missing;
   return j;
 }
@@ -68,14 +74,18 @@ cv::Mat picture(const model::TriMesh& mesh, const model::FeatureReport& r, int s
   model::TriMesh m;
   m.vertices = mesh.vertices, m.triangles = mesh.triangles;
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
-    m.colors.push_back(r.cluster[v] >= 0 ? label_rgb(r.cluster[v]) : Eigen::Vector3d(0.8, 0.8, 0.8));
+    m.colors.push_back(r.cluster[v] >= 0 ? label_rgb(r.cluster[v])
+                                         : Eigen::Vector3d(0.8, 0.8, 0.8));
   std::vector<Marker> markers;
   for (const auto& p : r.points) markers.push_back({p.position, p.name});
-  const Eigen::Vector3d fwd = r.axes_found ? Eigen::Vector3d(r.axes.col(2)) : Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d up = r.axes_found ? Eigen::Vector3d(r.axes.col(1)) : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d fwd =
+      r.axes_found ? Eigen::Vector3d(r.axes.col(2)) : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up =
+      r.axes_found ? Eigen::Vector3d(r.axes.col(1)) : Eigen::Vector3d::UnitY();
   const Eigen::Vector3d left = up.cross(fwd);
   std::vector<cv::Mat> views;
-  for (const Eigen::Vector3d& d : {Eigen::Vector3d(-fwd), Eigen::Vector3d(-left), Eigen::Vector3d(left)})
+  for (const Eigen::Vector3d& d :
+       {Eigen::Vector3d(-fwd), Eigen::Vector3d(-left), Eigen::Vector3d(left)})
     views.push_back(render_view(m, view_camera(m, d, up, size), markers));
   cv::Mat out;
   cv::hconcat(views, out);
@@ -110,7 +120,8 @@ int run_features(int argc, char** argv) {
   std::string csv = "vertex,cluster,ratio\n";  // seed 000's z_clusters
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     if (r.cluster[v] >= 0)
-      csv += std::to_string(v) + "," + std::to_string(r.cluster[v]) + "," + std::to_string(r.ratio[v]) + "\n";
+      csv += std::to_string(v) + "," + std::to_string(r.cluster[v]) + "," +
+             std::to_string(r.ratio[v]) + "\n";
   write_text_atomic(dir / "clusters.csv", csv);
   write_image_atomic((dir / "features.png").string(), picture(mesh, r, size));
   std::printf("features: %zu points found, %zu missing / notes, %.2f s -> %s\n", r.points.size(),

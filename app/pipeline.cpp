@@ -14,8 +14,8 @@
 #include "model/base_mesh.h"
 #include "model/mesh_io.h"
 #include "vision/landmarks.h"
-#include "vision/registration.h"
 #include "vision/observation_io.h"
+#include "vision/registration.h"
 
 namespace orthoface::app {
 namespace {
@@ -47,7 +47,8 @@ capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::str
   double row = 0;
   int n = 0;
   for (const char* e : {"eye_left_center", "eye_right_center"})
-    if (auto it = obs.front.features.find(e); it != obs.front.features.end()) row += it->second.px.y, ++n;
+    if (auto it = obs.front.features.find(e); it != obs.front.features.end())
+      row += it->second.px.y, ++n;
   if (n == 0) {
     double lo = 1e300, hi = -1e300;
     for (const auto& p : obs.front.boundary) lo = std::min(lo, p.y), hi = std::max(hi, p.y);
@@ -58,15 +59,18 @@ capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::str
   }
   const double width_px = silhouette_width_px(obs.front.boundary, row);
   if (width_px < 8)
-    throw std::invalid_argument("cannot reconstruct: the front silhouette has no width at eye height");
+    throw std::invalid_argument(
+        "cannot reconstruct: the front silhouette has no width at eye height");
   const double width_mm = 2 * model::generic_half_width(eye_y);
   const double s = width_px / width_mm;
   capture::RigCalibration rig = capture::ideal_rig(obs.front.width, obs.front.height, s);
   const vision::RowMap map = vision::side_row_map(obs);
   const double a = map.a, b = map.b;
   if (!(a > 1 / 1.5 && a < 1.5))
-    throw std::invalid_argument("inconsistent heights between views: the side photo's midline "
-                                "features are " + std::to_string(a) + " times as far apart as the front's");
+    throw std::invalid_argument(
+        "inconsistent heights between views: the side photo's midline "
+        "features are " +
+        std::to_string(a) + " times as far apart as the front's");
   rig.side.width = obs.side.width;
   rig.side.height = obs.side.height;
   rig.side.fx = rig.side.fy = s * a;

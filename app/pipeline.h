@@ -24,8 +24,8 @@ struct ReconstructOptions {
   std::optional<capture::RigCalibration> rig;  // calibrated / simulated rig; none = ideal rig
   vision::ObserveOptions observe;              // includes --side-camera
   model::StereoOptions stereo;
-  model::AdaptOptions adapt;                   // --method, --k
-  void check() const;                          // throws std::invalid_argument
+  model::AdaptOptions adapt;  // --method, --k
+  void check() const;         // throws std::invalid_argument
 };
 
 struct ReconstructionReport {

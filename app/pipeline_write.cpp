@@ -37,8 +37,10 @@ nlohmann::json landmarks_json(const Reconstruction& r) {
                {"observed", found.count(name) > 0},
                {"confidence", c == r.report.confidences.end() ? 0.0 : c->second}};
   }
-  return {{"format", "orthoface-landmarks"}, {"version", 1},
-          {"units", "mm, head frame (DESIGN.md)"}, {"landmarks", l}};
+  return {{"format", "orthoface-landmarks"},
+          {"version", 1},
+          {"units", "mm, head frame (DESIGN.md)"},
+          {"landmarks", l}};
 }
 
 nlohmann::json report_json(const Reconstruction& r) {
@@ -52,8 +54,8 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"front_landmarker", rep.front_landmarker},
           {"rig_source", r.rig.source},
           // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
-          {"photographed_side_yaw_sign",
-           capture::photographed_side_sign(capture::photo_rig(r.rig, r.observation.side_faces_left))},
+          {"photographed_side_yaw_sign", capture::photographed_side_sign(capture::photo_rig(
+                                             r.rig, r.observation.side_faces_left))},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},
@@ -62,9 +64,10 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"landmarks_used", rep.landmarks_used},
           {"folds_fixed", rep.folds_fixed},
           {"folds_remaining", rep.folds_remaining},
-          {"mesh", {{"file", "head.obj"},
-                    {"vertices", r.mesh.vertices.size()},
-                    {"triangles", r.mesh.triangles.size()}}}};
+          {"mesh",
+           {{"file", "head.obj"},
+            {"vertices", r.mesh.vertices.size()},
+            {"triangles", r.mesh.triangles.size()}}}};
 }
 
 }  // namespace
@@ -86,7 +89,8 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
     write_json(landmarks_json(r), tmp / "landmarks.json");
     write_json(report_json(r), tmp / "report.json");
     fs::create_directories(out);
-    for (const auto& e : fs::directory_iterator(tmp)) fs::rename(e.path(), out / e.path().filename());
+    for (const auto& e : fs::directory_iterator(tmp))
+      fs::rename(e.path(), out / e.path().filename());
     fs::remove_all(tmp);
   } catch (const std::exception& e) {
     fs::remove_all(tmp, ec);

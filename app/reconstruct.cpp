@@ -25,10 +25,11 @@ Command reconstruct_command() {
            {"out", true, "DIR  output folder (created; files of the same name are replaced)"},
            {"rig", true, "rig.yaml  calibrated or simulated rig (true scale)"},
            {"side-camera", true, "left|right  where the side camera stood (default: detect)"},
-           {"landmarker", true, "filters|network|consensus  the front features' detector: the seed's "
-                               "filters placed by the profile's rows, a trained 68-point network "
-                               "(MIT weights, vision/models), or both (default: the filters' points "
-                               "the network confirms, else the network's; the profile's midline)"},
+           {"landmarker", true,
+            "filters|network|consensus  the front features' detector: the seed's "
+            "filters placed by the profile's rows, a trained 68-point network "
+            "(MIT weights, vision/models), or both (default: the filters' points "
+            "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"}},
           0};
@@ -77,7 +78,8 @@ int run_reconstruct(int argc, char** argv) {
     return 0;
   }
   for (const char* flag : {"front", "side", "out"})
-    if (!args.has(flag)) throw std::invalid_argument(std::string("reconstruct: --") + flag + " is required");
+    if (!args.has(flag))
+      throw std::invalid_argument(std::string("reconstruct: --") + flag + " is required");
   const ReconstructOptions options = options_from(args);
   const std::string out = args.get("out");
   if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
@@ -88,10 +90,11 @@ int run_reconstruct(int argc, char** argv) {
   write_reconstruction(r, out);
   double total = 0;
   for (const auto& [stage, ms] : r.report.stage_ms) total += ms;
-  std::printf("reconstruct: %s + %s -> %s (%zu vertices, %zu features, %zu warnings) in %.0f ms%s\n",
-              args.get("front").c_str(), args.get("side").c_str(), out.c_str(),
-              r.mesh.vertices.size(), r.report.features_found.size(), r.report.warnings.size(),
-              total, options.rig ? "" : "; scale estimated (no --rig)");
+  std::printf(
+      "reconstruct: %s + %s -> %s (%zu vertices, %zu features, %zu warnings) in %.0f ms%s\n",
+      args.get("front").c_str(), args.get("side").c_str(), out.c_str(), r.mesh.vertices.size(),
+      r.report.features_found.size(), r.report.warnings.size(), total,
+      options.rig ? "" : "; scale estimated (no --rig)");
   return 0;
 }
 

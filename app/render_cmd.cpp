@@ -35,26 +35,32 @@ Command render_command() {
           "yaw / pitch: every visible surface point takes its colour from the photo it faces "
           "more (pick) or a cosine-weighted mix (weighted), never from a photo that cannot see "
           "it. Without rig.yaml the ideal rig of the photo size (1.6 px/mm) is assumed.",
-          "orthoface render DIR --yaw DEG [options] -o view.png   |   orthoface render DIR --export head.glb",
-          {{"yaw", true, "DEG  -180..180: 0 = the front photo's view; > 0 turns the view toward the "
-                         "subject's left (the face seems turned to its own right), < 0 toward the "
-                         "subject's right, whichever side the side camera stood on; "
-                         "report.json's photographed_side_yaw_sign says which sign shows the "
-                         "photographed side"},
+          "orthoface render DIR --yaw DEG [options] -o view.png   |   orthoface render DIR "
+          "--export head.glb",
+          {{"yaw", true,
+            "DEG  -180..180: 0 = the front photo's view; > 0 turns the view toward the "
+            "subject's left (the face seems turned to its own right), < 0 toward the "
+            "subject's right, whichever side the side camera stood on; "
+            "report.json's photographed_side_yaw_sign says which sign shows the "
+            "photographed side"},
            {"pitch", true, "DEG  -89..89, > 0 looks from above (default 0)"},
            {"size", true, "WxH  output size, each side 1..8192 (default: the front photo's)"},
-           {"blend", true, "MODE  view (default: the photo nearer the new view and better facing), "
-                           "pick (the photo the surface faces more, seed 004) or weighted"},
+           {"blend", true,
+            "MODE  view (default: the photo nearer the new view and better facing), "
+            "pick (the photo the surface faces more, seed 004) or weighted"},
            {"background", true, "COLOR  black, white, grey, #RRGGBB, R,G,B or transparent (PNG)"},
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
-           {"no-float", false, "blend the photos as projected, without aligning them by optical "
-                               "flow first (floating textures)"},
-           {"mirror", false, "colour the side the side camera never saw from the side photo "
-                             "mirrored about the face's mid-plane (landmarks.json) as well as "
-                             "the front photo (default: the front photo alone)"},
-           {"export", true, "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
-                            ".png), .glb (texture embedded) or .ply (vertex colours)"},
+           {"no-float", false,
+            "blend the photos as projected, without aligning them by optical "
+            "flow first (floating textures)"},
+           {"mirror", false,
+            "colour the side the side camera never saw from the side photo "
+            "mirrored about the face's mid-plane (landmarks.json) as well as "
+            "the front photo (default: the front photo alone)"},
+           {"export", true,
+            "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
+            ".png), .glb (texture embedded) or .ply (vertex colours)"},
            {"o", true, "FILE  output image (.png, .jpg, .bmp); replaced if it exists"}},
           1};
 }
@@ -71,8 +77,10 @@ cv::Scalar parse_color(const std::string& text) {
   if (std::sscanf(text.c_str(), "%d,%d,%d%c", &r, &g, &b, &tail) == 3 && r >= 0 && r <= 255 &&
       g >= 0 && g <= 255 && b >= 0 && b <= 255)
     return {double(b), double(g), double(r)};
-  throw std::invalid_argument("--background: expected black, white, grey, #RRGGBB, R,G,B or "
-                              "transparent, got '" + text + "'");
+  throw std::invalid_argument(
+      "--background: expected black, white, grey, #RRGGBB, R,G,B or "
+      "transparent, got '" +
+      text + "'");
 }
 
 // Encodes by extension and writes via path.tmp + rename, so no partial file is left.
@@ -116,11 +124,14 @@ Folder read_folder(const fs::path& dir) {
     *image = cv::imread((dir / name).string(), cv::IMREAD_COLOR);
     if (image->empty()) throw std::runtime_error("cannot read image " + (dir / name).string());
   }
-  if (fs::exists(dir / "rig.yaml")) f.rig = capture::read_rig((dir / "rig.yaml").string());
-  else f.rig = capture::ideal_rig(f.front.cols, f.front.rows, 1.6);
+  if (fs::exists(dir / "rig.yaml"))
+    f.rig = capture::read_rig((dir / "rig.yaml").string());
+  else
+    f.rig = capture::ideal_rig(f.front.cols, f.front.rows, 1.6);
   // A side photo taken from the subject's right was mirrored for the model, not for texturing.
   if (fs::exists(dir / "observation.json")) {
-    const vision::FaceObservation obs = vision::read_observation((dir / "observation.json").string());
+    const vision::FaceObservation obs =
+        vision::read_observation((dir / "observation.json").string());
     f.rig = capture::photo_rig(f.rig, obs.side_faces_left);
     if (obs.side.boundary.size() >= 2 && obs.side.width == f.side.cols &&
         obs.side.height == f.side.rows)
@@ -131,8 +142,8 @@ Folder read_folder(const fs::path& dir) {
 
 // The view camera (capture::view_camera) with the front camera's model rescaled to the output
 // size.
-capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int width,
-                                        int height, double yaw_deg, double pitch_deg) {
+capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int width, int height,
+                                        double yaw_deg, double pitch_deg) {
   const capture::CameraModel& front = rig.front;
   capture::RigCalibration scaled = rig;
   capture::CameraModel& k = scaled.front;
@@ -165,7 +176,8 @@ std::string lower_extension(const fs::path& p) {
 }
 
 void check_output_folder(const fs::path& out, const std::string& flag) {
-  if (fs::is_directory(out)) throw std::invalid_argument(flag + " " + out.string() + " is a folder");
+  if (fs::is_directory(out))
+    throw std::invalid_argument(flag + " " + out.string() + " is a folder");
   if (out.has_parent_path() && !fs::is_directory(out.parent_path()))
     throw std::invalid_argument(flag + " " + out.string() + ": folder " +
                                 out.parent_path().string() + " does not exist");
@@ -176,11 +188,14 @@ void export_mesh(const Folder& f, const fs::path& path, bool equalize) {
   o.equalize = equalize;
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
-    model::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o), path.string());
+    model::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o),
+                      path.string());
   } else {
     const model::TriMesh m = render::inherit_texture(f.mesh, f.rig, f.front, f.side, o).mesh;
-    if (ext == ".glb") render::write_glb(m, path.string());
-    else model::write_mesh(m, path.string());
+    if (ext == ".glb")
+      render::write_glb(m, path.string());
+    else
+      model::write_mesh(m, path.string());
   }
   std::printf("wrote %s\n", path.string().c_str());
 }
@@ -191,20 +206,23 @@ int run_render(int argc, char** argv) {
   const Command cmd = render_command();
   const Args a = parse_args(cmd, argc, argv);
   if (a.help) return print_help(cmd), 0;
-  if (a.positional.empty()) throw std::invalid_argument("render: missing the reconstruction folder DIR");
+  if (a.positional.empty())
+    throw std::invalid_argument("render: missing the reconstruction folder DIR");
   const bool view_wanted = a.has("o") || a.has("yaw") || a.has("turntable");
   if (a.has("export")) {
     const fs::path e = a.get("export");
     const std::string ext = lower_extension(e);
     if (ext != ".obj" && ext != ".glb" && ext != ".ply")
-      throw std::invalid_argument("--export " + e.string() + ": expected a .obj, .glb or .ply file");
+      throw std::invalid_argument("--export " + e.string() +
+                                  ": expected a .obj, .glb or .ply file");
     check_output_folder(e, "--export");
   }
   if (view_wanted && !a.has("o")) throw std::invalid_argument("render: missing -o FILE");
   if (!view_wanted && !a.has("export"))
     throw std::invalid_argument("render: nothing to do: give --yaw DEG -o FILE or --export FILE");
   const int turntable = a.has("turntable") ? to_int("turntable", a.get("turntable"), 2, 360) : 0;
-  if (view_wanted && !a.has("yaw") && !turntable) throw std::invalid_argument("render: missing --yaw DEG");
+  if (view_wanted && !a.has("yaw") && !turntable)
+    throw std::invalid_argument("render: missing --yaw DEG");
   const double yaw = a.has("yaw") ? to_double("yaw", a.get("yaw"), -180, 180) : 0;
   const double pitch = to_double("pitch", a.get("pitch", "0"), -89, 89);
   render::SynthesisOptions o;
@@ -223,7 +241,8 @@ int run_render(int argc, char** argv) {
     if (ext != ".png" && ext != ".jpg" && ext != ".jpeg" && ext != ".bmp")
       throw std::invalid_argument("-o " + out.string() + ": expected a .png, .jpg or .bmp file");
     if (transparent && ext != ".png")
-      throw std::invalid_argument("--background transparent needs a .png output, not " + out.string());
+      throw std::invalid_argument("--background transparent needs a .png output, not " +
+                                  out.string());
     check_output_folder(out, "-o");
   }
   std::pair<int, int> size{0, 0};

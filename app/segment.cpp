@@ -16,18 +16,19 @@ namespace orthoface::app {
 namespace {
 
 Command segment_command() {
-  return {"segment",
-          "Split a face mesh into weight-motion areas (seed 001): every vertex joins the feature "
-          "point at the smallest great-circle distance around the head centre. Writes the "
-          "membership table (count, %), a PLY with one colour per area, a picture and, with "
-          "--smooth, per-point weights falling off with geodesic distance.",
-          "orthoface segment MESH --points FP.json -o DIR [options]",
-          {{"points", true, "FILE  feature points JSON (orthoface features output or {name: [x,y,z]})"},
-           {"o", true, "DIR  output folder"},
-           {"centre", true, "X,Y,Z  head centre (default 0,0,0: the head frame's ear midpoint)"},
-           {"smooth", true, "SIGMA  also write weights.json, Gaussian falloff (mesh units)"},
-           {"any-names", false, "accept point names that are not MPEG-4 or landmark names"}},
-          1};
+  return {
+      "segment",
+      "Split a face mesh into weight-motion areas (seed 001): every vertex joins the feature "
+      "point at the smallest great-circle distance around the head centre. Writes the "
+      "membership table (count, %), a PLY with one colour per area, a picture and, with "
+      "--smooth, per-point weights falling off with geodesic distance.",
+      "orthoface segment MESH --points FP.json -o DIR [options]",
+      {{"points", true, "FILE  feature points JSON (orthoface features output or {name: [x,y,z]})"},
+       {"o", true, "DIR  output folder"},
+       {"centre", true, "X,Y,Z  head centre (default 0,0,0: the head frame's ear midpoint)"},
+       {"smooth", true, "SIGMA  also write weights.json, Gaussian falloff (mesh units)"},
+       {"any-names", false, "accept point names that are not MPEG-4 or landmark names"}},
+      1};
 }
 
 Eigen::Vector3d parse_xyz(const std::string& flag, const std::string& text) {
@@ -76,18 +77,25 @@ int run_segment(int argc, char** argv) {
   for (size_t p = 0; p < points.size(); ++p) {
     csv += std::to_string(p + 1) + "," + points[p].name + "," + std::to_string(s.count[p]) + "," +
            std::to_string(s.percent[p]) + "\n";
-    table.push_back({{"fp", p + 1}, {"name", points[p].name}, {"n", s.count[p]}, {"percent", s.percent[p]}});
+    table.push_back(
+        {{"fp", p + 1}, {"name", points[p].name}, {"n", s.count[p]}, {"percent", s.percent[p]}});
   }
   write_text_atomic(dir / "membership.csv", csv);
-  write_text_atomic(dir / "membership.json", nlohmann::json{{"mesh", args.positional[0]}, {"areas", table}, {"label", s.label}}.dump(1) + "\n");
+  write_text_atomic(
+      dir / "membership.json",
+      nlohmann::json{{"mesh", args.positional[0]}, {"areas", table}, {"label", s.label}}.dump(1) +
+          "\n");
   model::TriMesh colored;
   colored.vertices = mesh.vertices, colored.triangles = mesh.triangles;
   for (int l : s.label) colored.colors.push_back(label_rgb(l));
   model::write_mesh(colored, (dir / "areas.ply").string());
   std::vector<Marker> markers;
   for (const auto& p : points) markers.push_back({p.position, p.name});
-  write_image_atomic((dir / "segment.png").string(),
-                     render_view(colored, view_camera(colored, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), 600), markers));
+  write_image_atomic(
+      (dir / "segment.png").string(),
+      render_view(colored,
+                  view_camera(colored, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), 600),
+                  markers));
   if (options.smooth_weights) {
     nlohmann::json w;
     for (size_t p = 0; p < points.size(); ++p) {

@@ -44,7 +44,8 @@ cv::Mat heat_map(const std::vector<std::vector<double>>& m) {
     for (int j = 0; j < n; ++j) {
       const double t = std::isfinite(m[i][j]) ? (m[i][j] - lo) / std::max(1e-9, 1.0 - lo) : 0.0;
       const Eigen::Vector3d c = heat_rgb(t) * 255.0;  // seed 003: 1 red, the minimum blue
-      cv::rectangle(img, {j * cell, i * cell, cell, cell}, cv::Scalar(c.z(), c.y(), c.x()), cv::FILLED);
+      cv::rectangle(img, {j * cell, i * cell, cell, cell}, cv::Scalar(c.z(), c.y(), c.x()),
+                    cv::FILLED);
     }
   return img;
 }
@@ -60,7 +61,8 @@ int run_similarity(int argc, char** argv) {
   if (files.size() > 2 && !args.has("o"))
     throw std::invalid_argument("similarity: more than two meshes need -o DIR for the matrices");
   model::SimilarityOptions options;
-  if (args.has("geodesics")) options.radial_geodesics = to_int("geodesics", args.get("geodesics"), 3, 360);
+  if (args.has("geodesics"))
+    options.radial_geodesics = to_int("geodesics", args.get("geodesics"), 3, 360);
   if (args.has("radius")) options.radius = to_double("radius", args.get("radius"), 1e-9, 1e9);
   options.check();
   std::vector<model::FaceSignature> sig;

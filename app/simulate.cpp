@@ -23,38 +23,42 @@ namespace orthoface::app {
 namespace {
 
 Command simulate_command() {
-  return {"simulate",
-          "Render a simulated head (or the Lee Perry-Smith scan) from the front and side cameras "
-          "and write front.png side.png (+ _mask.png) truth.obj (+ .mtl, .png) landmarks.json "
-          "rig.yaml background.png background_side.png. rig.yaml holds the NOMINAL rig a station would "
-          "believe; landmarks.json holds the true cameras too.",
-          "orthoface simulate --subject N --out DIR [options]",
-          {{"subject", true, "N  head seed, 0..1000000 (not with --scan)"},
-           {"scan", true, "NAME  a real scan instead: lee-perry-smith"},
-           {"data", true, "DIR  data folder holding the scans (default: the build's ../shared/data)"},
-           {"out", true, "DIR  output folder (created; files in it are replaced)"},
-           {"rig", true, "KIND  ideal (orthographic, seed 004) or perspective (default ideal)"},
-           {"size", true, "WxH  image size, each side 1..8192 (default 640x480)"},
-           {"px-per-mm", true, "S  ideal rig scale (default 1.6)"},
-           {"focal", true, "PX  perspective focal length in pixels (default 1600)"},
-           {"distance", true, "MM  perspective camera distance (default 1000)"},
-           {"noise", true, "SIGMA  sensor noise, grey levels (default 0)"},
-           {"blur", true, "SIGMA  optical blur, pixels (default 0)"},
-           {"background", true, "KIND  plain or cluttered (default plain)"},
-           {"light", true, "A,D[,X,Y,Z]  ambient, diffuse and light travel direction (default 0.6,0.5)"},
-           {"misalign", true, "DEG[,MM]  random true-camera pose errors up to DEG degrees / MM mm"},
-           {"seed", true, "N  noise / clutter / misalignment seed (default: the subject)"}},
-          0};
+  return {
+      "simulate",
+      "Render a simulated head (or the Lee Perry-Smith scan) from the front and side cameras "
+      "and write front.png side.png (+ _mask.png) truth.obj (+ .mtl, .png) landmarks.json "
+      "rig.yaml background.png background_side.png. rig.yaml holds the NOMINAL rig a station would "
+      "believe; landmarks.json holds the true cameras too.",
+      "orthoface simulate --subject N --out DIR [options]",
+      {{"subject", true, "N  head seed, 0..1000000 (not with --scan)"},
+       {"scan", true, "NAME  a real scan instead: lee-perry-smith"},
+       {"data", true, "DIR  data folder holding the scans (default: the build's ../shared/data)"},
+       {"out", true, "DIR  output folder (created; files in it are replaced)"},
+       {"rig", true, "KIND  ideal (orthographic, seed 004) or perspective (default ideal)"},
+       {"size", true, "WxH  image size, each side 1..8192 (default 640x480)"},
+       {"px-per-mm", true, "S  ideal rig scale (default 1.6)"},
+       {"focal", true, "PX  perspective focal length in pixels (default 1600)"},
+       {"distance", true, "MM  perspective camera distance (default 1000)"},
+       {"noise", true, "SIGMA  sensor noise, grey levels (default 0)"},
+       {"blur", true, "SIGMA  optical blur, pixels (default 0)"},
+       {"background", true, "KIND  plain or cluttered (default plain)"},
+       {"light", true,
+        "A,D[,X,Y,Z]  ambient, diffuse and light travel direction (default 0.6,0.5)"},
+       {"misalign", true, "DEG[,MM]  random true-camera pose errors up to DEG degrees / MM mm"},
+       {"seed", true, "N  noise / clutter / misalignment seed (default: the subject)"}},
+      0};
 }
 
 // Comma-separated numbers, each checked like --flag values.
-std::vector<double> to_list(const std::string& flag, const std::string& text, double lo, double hi) {
+std::vector<double> to_list(const std::string& flag, const std::string& text, double lo,
+                            double hi) {
   std::vector<double> out;
   std::stringstream ss(text);
   std::string item;
   while (std::getline(ss, item, ',')) out.push_back(to_double(flag, item, lo, hi));
   if (text.empty() || text.back() == ',')
-    throw std::invalid_argument("--" + flag + ": expected comma-separated numbers, got '" + text + "'");
+    throw std::invalid_argument("--" + flag + ": expected comma-separated numbers, got '" + text +
+                                "'");
   return out;
 }
 
@@ -78,7 +82,8 @@ sim::RigOptions rig_options(const Args& a, int default_seed) {
   if (a.has("light")) {
     const std::vector<double> l = to_list("light", a.get("light"), -1e3, 1e3);
     if (l.size() != 2 && l.size() != 5)
-      throw std::invalid_argument("--light: expected A,D or A,D,X,Y,Z, got '" + a.get("light") + "'");
+      throw std::invalid_argument("--light: expected A,D or A,D,X,Y,Z, got '" + a.get("light") +
+                                  "'");
     o.ambient = l[0];
     o.diffuse = l[1];
     if (l.size() == 5) o.light_direction = Eigen::Vector3d(l[2], l[3], l[4]);
@@ -128,11 +133,13 @@ int run_simulate(int argc, char** argv) {
   prepare_output_dir(out);
   sim::write_simulation(out, head, cap, options);
   int vis_front = 0, vis_side = 0;
-  for (const auto& [name, t] : cap.landmarks) vis_front += t.visible_front, vis_side += t.visible_side;
+  for (const auto& [name, t] : cap.landmarks)
+    vis_front += t.visible_front, vis_side += t.visible_side;
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("simulate: %s -> %s (%s rig %dx%d, %zu landmarks, %d visible front, %d side) in %.2f s\n",
-              head.name.c_str(), out.c_str(), args.get("rig", "ideal").c_str(), options.width,
-              options.height, cap.landmarks.size(), vis_front, vis_side, s);
+  std::printf(
+      "simulate: %s -> %s (%s rig %dx%d, %zu landmarks, %d visible front, %d side) in %.2f s\n",
+      head.name.c_str(), out.c_str(), args.get("rig", "ideal").c_str(), options.width,
+      options.height, cap.landmarks.size(), vis_front, vis_side, s);
   return 0;
 }
 

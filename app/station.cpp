@@ -1,7 +1,7 @@
 // orthoface station: two live cameras, synchronized pairs on request, a fitted face model and
 // its rotated view re-textured from the live frames every frame (the conferencing use).
-#include <csignal>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,9 +10,9 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
-#include <thread>
 #include <stdexcept>
 #include <string>
+#include <thread>
 
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -34,26 +34,29 @@ volatile std::sig_atomic_t g_stop = 0;
 void on_signal(int) { g_stop = 1; }
 
 Command station_command() {
-  return {"station",
-          "Live two-camera station: shows both cameras and the face turned to --yaw, re-textured "
-          "from the live frames every frame; takes a synchronized pair on a key press ('c') or "
-          "GET /capture, refits the model on 'r', GET /refit or every --refit-every frames. "
-          "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
-          "orthoface station --front DEV --side DEV [--yaw DEG] [--output window|http:PORT|v4l2:/dev/videoN]",
-          {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
-           {"side", true, "DEV  side camera"},
-           {"yaw", true, "DEG  rotated view yaw, -90..90 (default 30)"},
-           {"pitch", true, "DEG  rotated view pitch, -60..60 (default 0)"},
-           {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
-           {"bind", true, "ADDR  http address (default 127.0.0.1)"},
-           {"duration", true, "S  stop after S seconds (default: until Ctrl-C)"},
-           {"size", true, "WxH  capture size (default 640x480)"},
-           {"fps", true, "N  capture frame rate (default 30)"},
-           {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
-           {"retexture-every", true, "N  re-texture from the live frames every N output frames (default 1)"},
-           {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
-           {"out", true, "DIR  pairs and the run summary (default station_out)"}},
-          0};
+  return {
+      "station",
+      "Live two-camera station: shows both cameras and the face turned to --yaw, re-textured "
+      "from the live frames every frame; takes a synchronized pair on a key press ('c') or "
+      "GET /capture, refits the model on 'r', GET /refit or every --refit-every frames. "
+      "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
+      "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
+      "window|http:PORT|v4l2:/dev/videoN]",
+      {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
+       {"side", true, "DEV  side camera"},
+       {"yaw", true, "DEG  rotated view yaw, -90..90 (default 30)"},
+       {"pitch", true, "DEG  rotated view pitch, -60..60 (default 0)"},
+       {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
+       {"bind", true, "ADDR  http address (default 127.0.0.1)"},
+       {"duration", true, "S  stop after S seconds (default: until Ctrl-C)"},
+       {"size", true, "WxH  capture size (default 640x480)"},
+       {"fps", true, "N  capture frame rate (default 30)"},
+       {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
+       {"retexture-every", true,
+        "N  re-texture from the live frames every N output frames (default 1)"},
+       {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
+       {"out", true, "DIR  pairs and the run summary (default station_out)"}},
+      0};
 }
 
 struct Settings {
@@ -65,11 +68,13 @@ struct Settings {
 Settings settings_from(const Args& a) {
   Settings s;
   for (const char* flag : {"front", "side"})
-    if (!a.has(flag)) throw std::invalid_argument(std::string("station: --") + flag + " is required");
+    if (!a.has(flag))
+      throw std::invalid_argument(std::string("station: --") + flag + " is required");
   s.front = a.get("front");
   s.side = a.get("side");
   if (capture::same_device(s.front, s.side))
-    throw std::invalid_argument("station: --front and --side are the same device (" + s.front + ")");
+    throw std::invalid_argument("station: --front and --side are the same device (" + s.front +
+                                ")");
   if (a.has("yaw")) s.yaw_deg = to_double("yaw", a.get("yaw"), -90, 90);
   if (a.has("pitch")) s.pitch_deg = to_double("pitch", a.get("pitch"), -60, 60);
   if (a.has("duration")) s.duration_s = to_double("duration", a.get("duration"), 0.1, 1e7);
@@ -82,8 +87,11 @@ Settings settings_from(const Args& a) {
   s.bind = a.get("bind", s.bind);
   s.out = a.get("out", s.out);
   if (a.has("rig")) require_file(a.get("rig"), "--rig"), s.rig_file = a.get("rig");
-  const bool ok = s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
-  if (!ok) throw std::invalid_argument("--output: expected window, http:PORT or v4l2:/dev/videoN, got '" + s.output + "'");
+  const bool ok =
+      s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
+  if (!ok)
+    throw std::invalid_argument("--output: expected window, http:PORT or v4l2:/dev/videoN, got '" +
+                                s.output + "'");
   return s;
 }
 
@@ -128,7 +136,8 @@ Station::Station(const Settings& s) : s_(s) {
   if (s_.output == "window") require_display("--output window");
   if (s_.output.rfind("http:", 0) == 0)
     http_ = std::make_unique<StationHttp>(s_.bind, to_int("output", s_.output.substr(5), 1, 65535));
-  if (s_.output.rfind("v4l2:", 0) == 0) v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
+  if (s_.output.rfind("v4l2:", 0) == 0)
+    v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
   prepare_output_dir(s_.out);
   rig_ = station_rig(s_.rig_file, s_.front, s_.side, s_.width, s_.height);
   capture::PairCaptureOptions o;
@@ -142,7 +151,8 @@ void Station::start_fit(const capture::FramePair& pair) {
   if (fit_.valid()) return;  // one fit at a time
   ReconstructOptions o;
   o.rig = rig_;
-  fit_ = std::async(std::launch::async, [pair, o] { return reconstruct(pair.front.image, pair.side.image, o); });
+  fit_ = std::async(std::launch::async,
+                    [pair, o] { return reconstruct(pair.front.image, pair.side.image, o); });
 }
 
 void Station::finish_fit() {
@@ -195,7 +205,8 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
     // much for a live frame on two cores; the offline render and batch use them.
     image_only.float_textures = false;
-    view_ = synth_->render(capture::view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only).view.image;
+    view_ = synth_->render(capture::view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only)
+                .view.image;
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));
@@ -204,7 +215,8 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
   }
   const double now = capture::monotonic_now_s();
   // Capture-to-output: from the older frame whose pixels the view shows (the texture source).
-  latency_s_.push_back(now - (synth_ ? texture_time_ : std::min(front.timestamp_s, side.timestamp_s)));
+  latency_s_.push_back(now -
+                       (synth_ ? texture_time_ : std::min(front.timestamp_s, side.timestamp_s)));
   out_times_.push_back(now);
   ++frames_out_;
   if (v4l2_) v4l2_->write(view_);
@@ -229,26 +241,29 @@ void Station::report_status(bool final_line) {
   size_t k = out_times_.size();
   size_t first = k;
   while (first > 0 && out_times_[first - 1] > out_times_.back() - 1.0) --first;
-  const double fps = k - first > 1 ? (k - first - 1) / (out_times_.back() - out_times_[first]) : 0.0;
+  const double fps =
+      k - first > 1 ? (k - first - 1) / (out_times_.back() - out_times_[first]) : 0.0;
   const double lat = latency_s_.empty() ? 0 : latency_s_.back();
   char line[400];
-  std::snprintf(line, sizeof(line),
-                "out %.1f fps | cams %.1f/%.1f fps | skew %.1f ms | latency %.0f ms | drops %llu/%llu "
-                "| pairs %zu | %s/%s%s",
-                fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
-                static_cast<unsigned long long>(st.dropped_front),
-                static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size(),
-                st.front_connected ? "front ok" : "FRONT LOST", st.side_connected ? "side ok" : "SIDE LOST",
-                synth_ ? "" : " | no model yet");
+  std::snprintf(
+      line, sizeof(line),
+      "out %.1f fps | cams %.1f/%.1f fps | skew %.1f ms | latency %.0f ms | drops %llu/%llu "
+      "| pairs %zu | %s/%s%s",
+      fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
+      static_cast<unsigned long long>(st.dropped_front),
+      static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size(),
+      st.front_connected ? "front ok" : "FRONT LOST", st.side_connected ? "side ok" : "SIDE LOST",
+      synth_ ? "" : " | no model yet");
   std::fprintf(stderr, "\r%-118s%s", line, final_line ? "\n" : "");
   if (http_) {
     char json[400];
-    std::snprintf(json, sizeof(json),
-                  "{\"fps_out\": %.2f, \"fps_front\": %.2f, \"fps_side\": %.2f, \"skew_ms\": %.2f, "
-                  "\"latency_ms\": %.1f, \"dropped_front\": %llu, \"dropped_side\": %llu, \"pairs\": %zu}",
-                  fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
-                  static_cast<unsigned long long>(st.dropped_front),
-                  static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size());
+    std::snprintf(
+        json, sizeof(json),
+        "{\"fps_out\": %.2f, \"fps_front\": %.2f, \"fps_side\": %.2f, \"skew_ms\": %.2f, "
+        "\"latency_ms\": %.1f, \"dropped_front\": %llu, \"dropped_side\": %llu, \"pairs\": %zu}",
+        fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
+        static_cast<unsigned long long>(st.dropped_front),
+        static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size());
     http_->set_status(json);
   }
 }
@@ -260,21 +275,25 @@ void Station::write_summary() {
   std::vector<double> lat;
   for (size_t i = 0; i < latency_s_.size(); ++i)
     if (out_times_[i] > t0_ + 1.0) lat.push_back(latency_s_[i] * 1e3);
-  const double mean_lat = lat.empty() ? 0 : std::accumulate(lat.begin(), lat.end(), 0.0) / lat.size();
+  const double mean_lat =
+      lat.empty() ? 0 : std::accumulate(lat.begin(), lat.end(), 0.0) / lat.size();
   std::ostringstream j;
-  j << "{\n  \"duration_s\": " << capture::monotonic_now_s() - t0_ << ",\n  \"frames_out\": " << frames_out_
+  j << "{\n  \"duration_s\": " << capture::monotonic_now_s() - t0_
+    << ",\n  \"frames_out\": " << frames_out_
     << ",\n  \"fps_out\": " << (span > 0 ? (out_times_.size() - 1) / span : 0.0)
     << ",\n  \"latency_ms\": {\"mean\": " << mean_lat << ", \"p95\": " << percentile(lat, 0.95)
-    << ", \"max\": " << percentile(lat, 1.0) << "},\n  \"skew_ms\": {\"mean\": " << st.skew_mean_s * 1e3
+    << ", \"max\": " << percentile(lat, 1.0)
+    << "},\n  \"skew_ms\": {\"mean\": " << st.skew_mean_s * 1e3
     << ", \"max\": " << st.skew_max_s * 1e3 << "},\n  \"frames_front\": " << st.frames_front
     << ", \"frames_side\": " << st.frames_side << ", \"pairs_formed\": " << st.pairs
     << ",\n  \"dropped_front\": " << st.dropped_front << ", \"dropped_side\": " << st.dropped_side
     << ", \"unpaired\": " << st.unpaired << ",\n  \"disconnects\": " << st.disconnects
     << ", \"reconnects\": " << st.reconnects << ", \"fits\": " << fits_
-    << ",\n  \"retexture_every\": " << s_.retexture_every << ", \"set_photos_ms_median\": "
-    << percentile(retexture_ms_, 0.5) << ", \"render_ms_median\": " << percentile(draw_ms_, 0.5)
-    << ",\n  \"pairs_saved\": [";
-  for (size_t i = 0; i < pairs_saved_.size(); ++i) j << (i ? ", " : "") << "\"" << pairs_saved_[i] << "\"";
+    << ",\n  \"retexture_every\": " << s_.retexture_every
+    << ", \"set_photos_ms_median\": " << percentile(retexture_ms_, 0.5)
+    << ", \"render_ms_median\": " << percentile(draw_ms_, 0.5) << ",\n  \"pairs_saved\": [";
+  for (size_t i = 0; i < pairs_saved_.size(); ++i)
+    j << (i ? ", " : "") << "\"" << pairs_saved_[i] << "\"";
   j << "],\n  \"events\": [";
   for (size_t i = 0; i < events_.size(); ++i) {
     std::string e = events_[i];

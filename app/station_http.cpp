@@ -83,7 +83,8 @@ StationHttp::StationHttp(const std::string& bind_address, int port) : port_(port
   if (port < 1 || port > 65535)
     throw std::invalid_argument("http port " + std::to_string(port) + " is outside 1..65535");
   listen_fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
-  if (listen_fd_ < 0) throw std::runtime_error("http: cannot create a socket: " + std::string(std::strerror(errno)));
+  if (listen_fd_ < 0)
+    throw std::runtime_error("http: cannot create a socket: " + std::string(std::strerror(errno)));
   const int one = 1;
   setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof(one));
   sockaddr_in addr{};
@@ -146,7 +147,8 @@ void StationHttp::serve(int fd) {
       std::lock_guard<std::mutex> lock(m_);
       actions_.push_back(path.substr(1));
     }
-    return respond(fd, "202 Accepted", "application/json", "{\"queued\": \"" + path.substr(1) + "\"}");
+    return respond(fd, "202 Accepted", "application/json",
+                   "{\"queued\": \"" + path.substr(1) + "\"}");
   }
   const size_t dot = path.rfind('.');
   const std::string name = dot == std::string::npos ? "" : path.substr(1, dot - 1);
@@ -161,8 +163,9 @@ void StationHttp::serve(int fd) {
 }
 
 void StationHttp::stream(int fd, const std::string& name) {
-  if (!send_text(fd, "HTTP/1.1 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=frame\r\n"
-                     "Cache-Control: no-store\r\nConnection: close\r\n\r\n"))
+  if (!send_text(fd,
+                 "HTTP/1.1 200 OK\r\nContent-Type: multipart/x-mixed-replace; boundary=frame\r\n"
+                 "Cache-Control: no-store\r\nConnection: close\r\n\r\n"))
     return;
   unsigned long seen = 0;
   for (;;) {
@@ -176,8 +179,9 @@ void StationHttp::stream(int fd, const std::string& name) {
     }
     const std::vector<unsigned char> jpeg = jpeg_of(name, &seen);
     if (jpeg.empty()) continue;
-    const std::string head = "--frame\r\nContent-Type: image/jpeg\r\nContent-Length: " +
-                             std::to_string(jpeg.size()) + "\r\n\r\n";
+    const std::string head =
+        "--frame\r\nContent-Type: image/jpeg\r\nContent-Length: " + std::to_string(jpeg.size()) +
+        "\r\n\r\n";
     if (!send_text(fd, head) || !send_all(fd, jpeg.data(), jpeg.size()) || !send_text(fd, "\r\n"))
       return;
   }

@@ -47,7 +47,8 @@ class StationHttp {
     std::vector<unsigned char> jpeg;  // of jpeg_version
     unsigned long jpeg_version = 0;
   };
-  std::vector<unsigned char> jpeg_of(const std::string& name, unsigned long* version);  // "" if none
+  std::vector<unsigned char> jpeg_of(const std::string& name,
+                                     unsigned long* version);  // "" if none
   std::map<std::string, Slot> images_;
   std::string status_ = "{}";
   std::vector<std::string> actions_;

@@ -30,12 +30,13 @@ std::string save_pair(const capture::FramePair& pair, const std::string& dir) {
       throw std::runtime_error("cannot write " + tmp + "/" + name);
   std::ofstream json(tmp + "/pair.json");
   char text[512];
-  std::snprintf(text, sizeof(text),
-                "{\n  \"front\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n"
-                "  \"side\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n  \"skew_ms\": %.3f\n}\n",
-                pair.front.timestamp_s, static_cast<unsigned long long>(pair.front.sequence),
-                pair.side.timestamp_s, static_cast<unsigned long long>(pair.side.sequence),
-                pair.skew_s * 1e3);
+  std::snprintf(
+      text, sizeof(text),
+      "{\n  \"front\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n"
+      "  \"side\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n  \"skew_ms\": %.3f\n}\n",
+      pair.front.timestamp_s, static_cast<unsigned long long>(pair.front.sequence),
+      pair.side.timestamp_s, static_cast<unsigned long long>(pair.side.sequence),
+      pair.skew_s * 1e3);
   json << text;
   json.close();
   if (!json) throw std::runtime_error("cannot write " + tmp + "/pair.json");
@@ -45,7 +46,8 @@ std::string save_pair(const capture::FramePair& pair, const std::string& dir) {
 
 std::optional<capture::RigCalibration> station_rig(const std::string& rig_file,
                                                    const std::string& front_id,
-                                                   const std::string& side_id, int width, int height) {
+                                                   const std::string& side_id, int width,
+                                                   int height) {
   if (!rig_file.empty()) return capture::read_rig(rig_file);
   if (front_id.rfind("sim:", 0) == 0 && side_id.rfind("sim:", 0) == 0) {
     sim::RigOptions o;  // as sim/sim_camera.cpp renders it
@@ -61,8 +63,9 @@ void require_display(const std::string& what) {
   const char* x = std::getenv("DISPLAY");
   const char* w = std::getenv("WAYLAND_DISPLAY");
   if ((!x || !*x) && (!w || !*w))
-    throw std::runtime_error(what + ": no display (DISPLAY is not set); use --output http:PORT "
-                                    "or v4l2:/dev/videoN on a headless machine");
+    throw std::runtime_error(what +
+                             ": no display (DISPLAY is not set); use --output http:PORT "
+                             "or v4l2:/dev/videoN on a headless machine");
 }
 
 void bgr_to_yuyv(const cv::Mat& bgr, std::vector<unsigned char>& out) {
@@ -88,9 +91,10 @@ V4l2Output::V4l2Output(const std::string& path, int width, int height)
   fd_ = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
   if (fd_ < 0) throw std::runtime_error("v4l2 output " + path + ": " + std::strerror(errno));
   v4l2_capability cap{};
-  const unsigned caps = ioctl(fd_, VIDIOC_QUERYCAP, &cap) == 0
-                            ? ((cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities)
-                            : 0;
+  const unsigned caps =
+      ioctl(fd_, VIDIOC_QUERYCAP, &cap) == 0
+          ? ((cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities)
+          : 0;
   v4l2_format fmt{};
   fmt.type = V4L2_BUF_TYPE_VIDEO_OUTPUT;
   fmt.fmt.pix.width = width;
@@ -102,9 +106,9 @@ V4l2Output::V4l2Output(const std::string& path, int width, int height)
   fmt.fmt.pix.colorspace = V4L2_COLORSPACE_SRGB;
   if (!(caps & V4L2_CAP_VIDEO_OUTPUT) || ioctl(fd_, VIDIOC_S_FMT, &fmt) != 0) {
     ::close(fd_);
-    throw std::runtime_error("v4l2 output " + path +
-                             ": not a video output device accepting YUYV " + std::to_string(width) +
-                             "x" + std::to_string(height) + " (is it a v4l2loopback device?)");
+    throw std::runtime_error("v4l2 output " + path + ": not a video output device accepting YUYV " +
+                             std::to_string(width) + "x" + std::to_string(height) +
+                             " (is it a v4l2loopback device?)");
   }
 }
 

@@ -41,7 +41,8 @@ class V4l2Output {
 // they render through (true scale); otherwise none (reconstruct's documented default scale).
 std::optional<capture::RigCalibration> station_rig(const std::string& rig_file,
                                                    const std::string& front_id,
-                                                   const std::string& side_id, int width, int height);
+                                                   const std::string& side_id, int width,
+                                                   int height);
 
 // Packs BGR (even width) into YUYV 4:2:2.
 void bgr_to_yuyv(const cv::Mat& bgr, std::vector<unsigned char>& out);

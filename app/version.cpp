@@ -9,8 +9,11 @@
 namespace orthoface::app {
 
 int run_version(int argc, char** argv) {
-  const Command command{"version", "Print the orthoface version and the library versions it uses.",
-                        "orthoface version", {}, 0};
+  const Command command{"version",
+                        "Print the orthoface version and the library versions it uses.",
+                        "orthoface version",
+                        {},
+                        0};
   const Args args = parse_args(command, argc, argv);
   if (args.help) {
     print_help(command);

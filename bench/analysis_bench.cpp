@@ -2,14 +2,15 @@
 // geodesic matrices at 550..1760 vertices, plus 10k and 50k), geodesic accuracy against the
 // analytic sphere and CGAL's exact Surface_mesh_shortest_path (reference only), and features on
 // sim heads and the two scans.
-// Usage: analysis_bench [--quick | --timing [REPS [MAX_VERTICES]] | --accuracy | --features N_HEADS]
+// Usage: analysis_bench [--quick | --timing [REPS [MAX_VERTICES]] | --accuracy | --features
+// N_HEADS]
 // (--timing: each matrix REPS times, median and min of wall and CPU time, sizes up to MAX_VERTICES)
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <ctime>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <limits>
 #include <map>
 #include <string>
@@ -120,11 +121,12 @@ nlohmann::json sphere_accuracy(int levels) {
   // Icosphere by subdivision (as tests/model/analysis_test_meshes.h), radius 100.
   model::TriMesh m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  m.vertices = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                 {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                 {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
   for (int l = 0; l < levels; ++l) {
     std::map<std::pair<int, int>, int> mid;
     auto midpoint = [&](int a, int b) {
@@ -147,12 +149,13 @@ nlohmann::json sphere_accuracy(int levels) {
   const double fmm_ms = ms_since(t0);
   std::vector<double> truth(d.size());
   for (size_t i = 0; i < d.size(); ++i)
-    truth[i] = 100.0 * std::acos(std::clamp(m.vertices[0].normalized().dot(m.vertices[i].normalized()), -1.0, 1.0));
+    truth[i] = 100.0 * std::acos(std::clamp(
+                           m.vertices[0].normalized().dot(m.vertices[i].normalized()), -1.0, 1.0));
   const Accuracy a = compare(d, truth);
   const Accuracy e = compare(model::edge_graph_distances(m, {0}), truth);
-  return {{"vertices", m.vertices.size()}, {"fmm_ms", fmm_ms}, {"fmm_mean_rel_error", a.mean_rel},
-          {"fmm_max_rel_error", a.max_rel}, {"dijkstra_mean_rel_error", e.mean_rel},
-          {"dijkstra_max_rel_error", e.max_rel}};
+  return {{"vertices", m.vertices.size()},         {"fmm_ms", fmm_ms},
+          {"fmm_mean_rel_error", a.mean_rel},      {"fmm_max_rel_error", a.max_rel},
+          {"dijkstra_mean_rel_error", e.mean_rel}, {"dijkstra_max_rel_error", e.max_rel}};
 }
 
 #ifdef ORTHOFACE_HAVE_CGAL
@@ -170,7 +173,8 @@ struct CgalMesh {
     for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
     accepted.vertices = m.vertices;
     for (const auto& t : m.triangles)
-      if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) != SM::null_face()) accepted.triangles.push_back(t);
+      if (sm.add_face(vh[t[0]], vh[t[1]], vh[t[2]]) != SM::null_face())
+        accepted.triangles.push_back(t);
   }
 };
 #endif
@@ -210,9 +214,13 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   }
   const Accuracy a = compare(fmm, exact);
   const Accuracy e = compare(model::edge_graph_distances(same, {src}), exact);
-  j.update({{"vertices", m.vertices.size()}, {"cgal_exact_ms", cgal_ms}, {"fmm_ms_min_of_5", fmm_ms},
-            {"speedup", cgal_ms / fmm_ms}, {"fmm_mean_rel_error", a.mean_rel},
-            {"fmm_max_rel_error", a.max_rel}, {"dijkstra_mean_rel_error", e.mean_rel},
+  j.update({{"vertices", m.vertices.size()},
+            {"cgal_exact_ms", cgal_ms},
+            {"fmm_ms_min_of_5", fmm_ms},
+            {"speedup", cgal_ms / fmm_ms},
+            {"fmm_mean_rel_error", a.mean_rel},
+            {"fmm_max_rel_error", a.max_rel},
+            {"dijkstra_mean_rel_error", e.mean_rel},
             {"dijkstra_max_rel_error", e.max_rel}});
 #else
   auto t0 = Clock::now();
@@ -270,16 +278,26 @@ nlohmann::json matrix_accuracy(int target_vertices, int sources) {
 
 // MPEG-4 point (or key vertex) -> the landmarks it is compared with (the first one present).
 const std::map<std::string, std::vector<std::string>> kTruthOf = {
-    {"9.3", {"nose_tip"}}, {"9.15", {"subnasale"}}, {"8.1", {"lip_upper"}},
-    {"8.2", {"lip_lower"}}, {"2.10", {"chin"}}, {"2.1", {"chin_bottom"}},
-    {"nasion", {"nose_bridge"}}, {"4.3", {"brow_left_center"}}, {"4.4", {"brow_right_center"}},
-    {"3.5", {"eye_left_center"}}, {"3.6", {"eye_right_center"}}, {"10.1", {"ear_left_top"}},
-    {"10.2", {"ear_right_top"}}, {"P1_ear_left", {"ear_left_tragus", "ear_left_helix"}},
+    {"9.3", {"nose_tip"}},
+    {"9.15", {"subnasale"}},
+    {"8.1", {"lip_upper"}},
+    {"8.2", {"lip_lower"}},
+    {"2.10", {"chin"}},
+    {"2.1", {"chin_bottom"}},
+    {"nasion", {"nose_bridge"}},
+    {"4.3", {"brow_left_center"}},
+    {"4.4", {"brow_right_center"}},
+    {"3.5", {"eye_left_center"}},
+    {"3.6", {"eye_right_center"}},
+    {"10.1", {"ear_left_top"}},
+    {"10.2", {"ear_right_top"}},
+    {"P1_ear_left", {"ear_left_tragus", "ear_left_helix"}},
     {"P2_ear_right", {"ear_right_tragus", "ear_right_helix"}}};
 
 // Distance (mesh units) of each found point with a known landmark, keyed by point name.
-std::map<std::string, double> truth_errors(const model::TriMesh& mesh, const model::FeatureReport& r,
-                                           const std::map<std::string, Eigen::Vector3d>& landmarks) {
+std::map<std::string, double> truth_errors(
+    const model::TriMesh& mesh, const model::FeatureReport& r,
+    const std::map<std::string, Eigen::Vector3d>& landmarks) {
   std::vector<std::pair<std::string, Eigen::Vector3d>> found;
   for (const auto& p : r.points) found.push_back({p.name, p.position});
   if (r.ear_left) {
@@ -327,14 +345,17 @@ nlohmann::json sim_features(int seeds) {
     for (const auto& [name, e] : row["error"].items()) err[name].push_back(e.get<double>());
     rows.push_back(row);
   }
-  nlohmann::json j{{"heads", seeds}, {"ears_found", ears_found},
-                   {"left_ear_on_subject_left", ears_on_correct_side}, {"mean_seconds", secs / seeds},
+  nlohmann::json j{{"heads", seeds},
+                   {"ears_found", ears_found},
+                   {"left_ear_on_subject_left", ears_on_correct_side},
+                   {"mean_seconds", secs / seeds},
                    {"per_head", rows}};
   for (auto& [name, v] : err) {
     std::sort(v.begin(), v.end());
     double mean = 0;
     for (double x : v) mean += x / v.size();
-    j["error_mm"][name] = {{"found", v.size()}, {"mean", mean}, {"median", v[v.size() / 2]}, {"max", v.back()}};
+    j["error_mm"][name] = {
+        {"found", v.size()}, {"mean", mean}, {"median", v[v.size() / 2]}, {"max", v.back()}};
   }
   return j;
 }

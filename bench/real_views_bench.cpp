@@ -13,10 +13,10 @@
 //   - the view from each source camera against its photo (PSNR where that photo sees the head);
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
 //     brows: median and worst point / outer-eye distance, points not found).
-// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]
-// JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per person
-// (front | +-15 | +-45 | real +-45, dlib's points drawn). The pictures show real people: keep
-// OUTDIR outside the repository.
+// usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
+// G] [--landmarker filters|network|consensus] [--no-float] [--mirror] JSON on stdout, Markdown on
+// stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real +-45, dlib's
+// points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -50,9 +50,11 @@ constexpr double kIdentical = 99;  // PSNR (dB) reported for identical pixels
 
 // A square around the face (3 face boxes wide), or around the image centre without one.
 cv::Rect head_crop(const cv::Mat& image, const std::optional<judge::FaceFound>& face) {
-  const cv::Point c = face ? (face->box.tl() + face->box.br()) / 2 : cv::Point(image.cols / 2, image.rows / 2);
+  const cv::Point c =
+      face ? (face->box.tl() + face->box.br()) / 2 : cv::Point(image.cols / 2, image.rows / 2);
   const int half = face ? int(1.1 * face->box.width) : image.rows / 3;
-  return cv::Rect(c.x - half, c.y - half, 2 * half, 2 * half) & cv::Rect(0, 0, image.cols, image.rows);
+  return cv::Rect(c.x - half, c.y - half, 2 * half, 2 * half) &
+         cv::Rect(0, 0, image.cols, image.rows);
 }
 
 // Vision's front features against the judge's points where the definitions agree: eye corners,
@@ -61,11 +63,19 @@ struct LandmarkGroup {
   const char* name;
   std::vector<std::pair<const char*, int>> points;  // our feature, iBUG index
 };
-const LandmarkGroup kGroups[] = {
-    {"eye_corners", {{"eye_right_outer", 36}, {"eye_right_inner", 39}, {"eye_left_inner", 42}, {"eye_left_outer", 45}}},
-    {"mouth_corners", {{"mouth_right", 48}, {"mouth_left", 54}}},
-    {"brows", {{"brow_right_outer", 17}, {"brow_right_center", 19}, {"brow_right_inner", 21},
-               {"brow_left_inner", 22}, {"brow_left_center", 24}, {"brow_left_outer", 26}}}};
+const LandmarkGroup kGroups[] = {{"eye_corners",
+                                  {{"eye_right_outer", 36},
+                                   {"eye_right_inner", 39},
+                                   {"eye_left_inner", 42},
+                                   {"eye_left_outer", 45}}},
+                                 {"mouth_corners", {{"mouth_right", 48}, {"mouth_left", 54}}},
+                                 {"brows",
+                                  {{"brow_right_outer", 17},
+                                   {"brow_right_center", 19},
+                                   {"brow_right_inner", 21},
+                                   {"brow_left_inner", 22},
+                                   {"brow_left_center", 24},
+                                   {"brow_left_outer", 26}}}};
 
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;
@@ -97,7 +107,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
     return 0;
   }
   if (!judge::predictor_available()) {
-    std::cout << json{{"skipped", std::string("no dlib predictor at ") + judge::kDefaultPredictor}}.dump() << "\n";
+    std::cout
+        << json{{"skipped", std::string("no dlib predictor at ") + judge::kDefaultPredictor}}.dump()
+        << "\n";
     return 0;
   }
   fs::create_directories(out_dir);
@@ -105,19 +117,22 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   for (const auto& e : fs::directory_iterator(dir)) {
     const std::string id = e.path().filename();
     if (!e.is_directory() || !fs::exists(e.path() / "Img_33.JPG")) continue;
-    if (opt.people.empty() || std::count(opt.people.begin(), opt.people.end(), id)) people.push_back(id);
+    if (opt.people.empty() || std::count(opt.people.begin(), opt.people.end(), id))
+      people.push_back(id);
   }
   std::sort(people.begin(), people.end());
   const judge::FaceJudge judge;
   json res = json::array();
   int found[3] = {0, 0, 0}, views[3] = {0, 0, 0};  // per |yaw|
-  std::vector<double> landmark_err[3];  // per group, all points of all people
-  double landmark_worst[3] = {0, 0, 0};  // per group, the worst point of any person
-  int landmark_missing[3] = {0, 0, 0};   // points vision did not find (or only mirrored)
-  double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY, psnr_side_min = INFINITY;
+  std::vector<double> landmark_err[3];             // per group, all points of all people
+  double landmark_worst[3] = {0, 0, 0};            // per group, the worst point of any person
+  int landmark_missing[3] = {0, 0, 0};             // points vision did not find (or only mirrored)
+  double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
+         psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
   std::string md =
-      "| person | faces found (+-15, +-30, +-45) | NME photographed side (baseline) | NME other side "
+      "| person | faces found (+-15, +-30, +-45) | NME photographed side (baseline) | NME other "
+      "side "
       "(baseline) | yaw 0 vs front PSNR | side yaw vs side PSNR |\n|---|---|---|---|---|---|\n";
   for (const std::string& p : people) {
     const fs::path d = fs::path(dir) / p;
@@ -159,8 +174,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       cv::Mat front_share;
       cv::extractChannel(v0.weights, front_share, 0);
       const cv::Mat front_sees = (front_share > 0) & v0.view.mask;  // the front photo sees it
-      r["yaw0_pixels_not_from_front"] = 1.0 - double(cv::countNonZero((front_share == 255) & v0.view.mask)) /
-                                                  std::max(1, cv::countNonZero(v0.view.mask));
+      r["yaw0_pixels_not_from_front"] =
+          1.0 - double(cv::countNonZero((front_share == 255) & v0.view.mask)) /
+                    std::max(1, cv::countNonZero(v0.view.mask));
       render::SynthesisOptions raw = with_weights;
       raw.equalize = false;
       const render::SynthesisResult v90 = synth.render(rig.side, raw);
@@ -168,8 +184,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       cv::extractChannel(v90.weights, side_share, 1);
       const cv::Mat side_sees = (side_share > 0) & v90.view.mask;
       // Identical images have infinite PSNR: reported as kIdentical.
-      const double psnr_front = std::min(render::psnr(rec.front, v0.view.image, front_sees), kIdentical);
-      const double psnr_side = std::min(render::psnr(rec.side, v90.view.image, side_sees), kIdentical);
+      const double psnr_front =
+          std::min(render::psnr(rec.front, v0.view.image, front_sees), kIdentical);
+      const double psnr_side =
+          std::min(render::psnr(rec.side, v90.view.image, side_sees), kIdentical);
       cv::Mat error0;  // |yaw-0 view - front photo| x 4 where the mesh is drawn
       cv::absdiff(rec.front, v0.view.image, error0);
       error0 = error0 * 4;
@@ -218,7 +236,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
           if (kYawsDeg[k] == 30) continue;
           cv::Mat img = v.view.image.clone();
           draw_points(img, face);
-          tiles.push_back({img(crop).clone(), cv::format("yaw %+d (%s)", int(yaw), side_k == 0 ? "photographed" : "other")});
+          tiles.push_back({img(crop).clone(), cv::format("yaw %+d (%s)", int(yaw),
+                                                         side_k == 0 ? "photographed" : "other")});
           if (kYawsDeg[k] != 45) continue;
           const auto& real_face = side_k == 0 ? real_near_face : real_far_face;
           if (!real_face) continue;  // dlib does not annotate this real photo: not scored
@@ -232,7 +251,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         const auto& real_face = s == 0 ? real_near_face : real_far_face;
         cv::Mat img = (s == 0 ? real_near : real_far).clone();
         draw_points(img, real_face);
-        tiles.push_back({img(head_crop(img, real_face)).clone(), s == 0 ? "real Img_43" : "real Img_23"});
+        tiles.push_back(
+            {img(head_crop(img, real_face)).clone(), s == 0 ? "real Img_43" : "real Img_23"});
         if (std::isnan(nme[s])) continue;
         nme_sum[s] += nme[s], base_sum[s] += base[s], ++nme_n[s], ++compared[s];
         if (nme[s] < base[s]) ++better[s];
@@ -245,7 +265,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       co.tile_width = 260;
       co.tile_height = 260;
       co.font_scale = 0.4;
-      render::write_png(render::contact_sheet(tiles, co), (fs::path(out_dir) / (p + "_judge.png")).string());
+      render::write_png(render::contact_sheet(tiles, co),
+                        (fs::path(out_dir) / (p + "_judge.png")).string());
       md += cv::format("| %s | %s | %.3f (%.3f) | %.3f (%.3f) | %.1f dB | %.1f dB |\n", p.c_str(),
                        found_text.c_str(), nme[0], base[0], nme[1], base[1], psnr_front, psnr_side);
     } catch (const std::exception& e) {
@@ -267,8 +288,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                      {"scored", compared[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
   out["front_landmarker"] = vision::front_landmarker_name(opt.landmarker);
-  md += cv::format("\nFront landmarks (%s) against the judge's, fraction of the outer-eye distance, "
-                   "median / worst:", vision::front_landmarker_name(opt.landmarker));
+  md += cv::format(
+      "\nFront landmarks (%s) against the judge's, fraction of the outer-eye distance, "
+      "median / worst:",
+      vision::front_landmarker_name(opt.landmarker));
   for (int g = 0; g < 3; ++g) {
     out["front_landmarks"][kGroups[g].name] = {{"median", median(landmark_err[g])},
                                                {"worst", landmark_worst[g]},
@@ -282,11 +305,13 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                    found[1], views[1], found[2], views[2]);
   for (int s = 0; s < 2; ++s)
     if (nme_n[s] > 0)
-      md += cv::format("NME at 45 (%s side): %.3f, baseline %.3f, better than the baseline on %d/%d.\n",
-                       side_name[s], nme_sum[s] / nme_n[s], base_sum[s] / nme_n[s], better[s], compared[s]);
-  md += cv::format("Yaw 0 vs the front photo where it sees the head: min PSNR %.1f dB (%.0f = "
-                   "identical); the side camera's view vs the side photo: min %.1f dB.\n",
-                   psnr_front_min, kIdentical, psnr_side_min);
+      md += cv::format(
+          "NME at 45 (%s side): %.3f, baseline %.3f, better than the baseline on %d/%d.\n",
+          side_name[s], nme_sum[s] / nme_n[s], base_sum[s] / nme_n[s], better[s], compared[s]);
+  md += cv::format(
+      "Yaw 0 vs the front photo where it sees the head: min PSNR %.1f dB (%.0f = "
+      "identical); the side camera's view vs the side photo: min %.1f dB.\n",
+      psnr_front_min, kIdentical, psnr_side_min);
   bench::write_report(out_dir, "real_views", out, md);
   return 0;
 }
@@ -317,7 +342,9 @@ int main(int argc, char** argv) {
       }
     }
     if (pos.size() != 2) {
-      std::cerr << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]\n";
+      std::cerr
+          << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
+             "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

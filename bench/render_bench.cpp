@@ -13,8 +13,8 @@
 
 #include "capture/camera_model.h"
 #include "render/gl_util.h"
-#include "render/renderer.h"
 #include "render/new_view.h"
+#include "render/renderer.h"
 #include "render/shapes.h"
 #include "sim/head.h"
 
@@ -47,7 +47,8 @@ void run(benchmark::State& state, const model::TriMesh& mesh, bool cached,
     if (!cached) renderer.clear_cache();
     benchmark::DoNotOptimize(renderer.render(mesh, cam, options).image.data);
   }
-  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["triangles"] = double(mesh.triangles.size());
   const char* threads = std::getenv("LP_NUM_THREADS");
   state.SetLabel(std::string("LP_NUM_THREADS=") + (threads ? threads : "default"));
@@ -90,10 +91,12 @@ void BM_NewViewSimHead(benchmark::State& state) {
   o.per_pixel_visibility = state.range(0) != 3;
   o.depth = state.range(0) != 4;
   o.skip_unoccluded = state.range(0) != 5;
-  const capture::CameraModel cam = capture::camera_at(rig.front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
+  const capture::CameraModel cam =
+      capture::camera_at(rig.front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
   synth.render(cam, o);
   for (auto _ : state) benchmark::DoNotOptimize(synth.render(cam, o).view.image.data);
-  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
   state.counters["triangles"] = double(head.triangles.size());
 }
 
@@ -136,7 +139,8 @@ void BM_NewViewWithNewPhotos(benchmark::State& state) {
     live.next(colour_update(state));
     benchmark::DoNotOptimize(live.synth->render(cam).view.image.data);
   }
-  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
 // set_photos alone (args as BM_NewViewWithNewPhotos); the time per iteration is its cost.
@@ -161,7 +165,8 @@ void BM_PlainLlvmpipeReference(benchmark::State& state) {
   render::gl::Context context;
   const GLuint prog = render::gl::program(kPlainVs, kPlainFs, "plain");
   std::vector<float> pos;
-  for (const auto& v : mesh.vertices) pos.insert(pos.end(), {float(v.x()), float(v.y()), float(v.z())});
+  for (const auto& v : mesh.vertices)
+    pos.insert(pos.end(), {float(v.x()), float(v.y()), float(v.z())});
   GLuint vao = 0, buf[2] = {0, 0};
   glGenVertexArrays(1, &vao);
   glBindVertexArray(vao);
@@ -171,7 +176,8 @@ void BM_PlainLlvmpipeReference(benchmark::State& state) {
   glEnableVertexAttribArray(0);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 12, nullptr);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, buf[1]);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * 12), mesh.triangles.data(), GL_STATIC_DRAW);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(mesh.triangles.size() * 12),
+               mesh.triangles.data(), GL_STATIC_DRAW);
   render::gl::Framebuffer fb;
   fb.ensure(cam.width, cam.height, {GL_RGBA8});
   glViewport(0, 0, cam.width, cam.height);
@@ -188,18 +194,46 @@ void BM_PlainLlvmpipeReference(benchmark::State& state) {
   int covered = 0;
   for (int i = 0; i < int(rgba.total()); ++i) covered += rgba.data[4 * i] > 100;
   state.counters["covered_px"] = covered;
-  state.counters["fps"] = benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["fps"] =
+      benchmark::Counter(double(state.iterations()), benchmark::Counter::kIsRate);
   fb.release();
 }
 
 BENCHMARK(BM_PlainLlvmpipeReference)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TexturedEllipsoid)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_TexturedEllipsoid)
+    ->Arg(4000)
+    ->Arg(16000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 BENCHMARK(BM_TexturedEllipsoidReupload)->Arg(4000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_TexturedSimHead)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_TexturedSimHeadImageOnly)->Arg(4000)->Arg(16000)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_NewViewSimHead)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
-BENCHMARK(BM_NewViewWithNewPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
-BENCHMARK(BM_SetPhotos)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
+BENCHMARK(BM_TexturedSimHeadImageOnly)
+    ->Arg(4000)
+    ->Arg(16000)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_NewViewSimHead)
+    ->Arg(1)
+    ->Arg(2)
+    ->Arg(3)
+    ->Arg(4)
+    ->Arg(5)
+    ->Arg(6)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_NewViewWithNewPhotos)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
+BENCHMARK(BM_SetPhotos)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond)
+    ->MeasureProcessCPUTime()
+    ->UseRealTime();
 
 }  // namespace
 

@@ -24,9 +24,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "bench/bench_report.h"
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include "bench/bench_report.h"
 
 #include "app/pipeline.h"
 #include "model/adapt.h"
@@ -64,8 +64,8 @@ const char* const kBlendNames[] = {"view", "pick", "weighted"};
 constexpr int kNumBlends = 3;
 // Where an uncovered face-mask pixel lies on the true head: height bands between landmarks, on
 // the side turned away from the camera (far) or toward it (near).
-const char* const kRegionNames[] = {"far forehead", "far brow..nose tip", "far nose tip..mouth",
-                                    "far mouth..chin", "under the chin", "near side"};
+const char* const kRegionNames[] = {"far forehead",    "far brow..nose tip", "far nose tip..mouth",
+                                    "far mouth..chin", "under the chin",     "near side"};
 constexpr int kNumRegions = 6;
 
 model::TriMesh bare(const model::TriMesh& m) {
@@ -87,8 +87,9 @@ std::array<model::TriMesh, kNumMeshes> meshes(const model::TriMesh& truth,
 struct Scores {
   double psnr[kNumMeshes][kNumBlends][kNumYaws] = {};
   double ssim[kNumMeshes][kNumBlends][kNumYaws] = {};
-  double uncovered[kNumMeshes][kNumBlends][kNumYaws] = {};     // share of the face mask
-  double psnr_covered[kNumMeshes][kNumBlends][kNumYaws] = {};  // PSNR where the mesh covers the mask
+  double uncovered[kNumMeshes][kNumBlends][kNumYaws] = {};  // share of the face mask
+  double psnr_covered[kNumMeshes][kNumBlends][kNumYaws] =
+      {};  // PSNR where the mesh covers the mask
   // 45 deg, pick: uncovered face-mask pixels by where they lie on the true head (kRegionNames),
   // as shares of the face mask; has_regions false when the head lacks the landmarks.
   double uncovered_region[kNumMeshes][kNumRegions] = {};
@@ -172,14 +173,15 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   const auto m = meshes(head.mesh, r);
   render::ViewSynthesizer synth(m[0], r.rig, r.front, r.side);
   if (g_photo_masks)
-    synth.set_photo_masks({}, vision::profile_mask(r.observation.side, r.observation.side_faces_left));
+    synth.set_photo_masks({},
+                          vision::profile_mask(r.observation.side, r.observation.side_faces_left));
   std::vector<render::Tile> tiles;
   for (int y = 0; y < kNumYaws; ++y) {
     const double yaw = kYawsDeg[y] * M_PI / 180;
     const render::RenderResult truth = sim::true_view(head, options, yaw, 0, renderer);
     const capture::CameraModel camera = sim::true_view_camera(options, yaw, 0);
-    const cv::Mat mask = sim::has_face_landmarks(head) ? sim::face_mask(head, camera, renderer)
-                                                       : truth.mask;
+    const cv::Mat mask =
+        sim::has_face_landmarks(head) ? sim::face_mask(head, camera, renderer) : truth.mask;
     const bool regions = y == kHeadlineYaw && has_region_landmarks(head);
     const cv::Mat positions = regions ? position_view(head, camera, renderer).image : cv::Mat();
     out.s.has_regions = out.s.has_regions || regions;
@@ -241,10 +243,11 @@ json scores_json(const Scores& s) {
   for (int k = 0; k < kNumMeshes; ++k)
     for (int b = 0; b < kNumBlends; ++b)
       for (int y = 0; y < kNumYaws; ++y)
-        j[kMeshNames[k]][kBlendNames[b]].push_back(
-            {{"yaw_deg", kYawsDeg[y]}, {"psnr_db", s.psnr[k][b][y]}, {"ssim", s.ssim[k][b][y]},
-             {"uncovered_share", s.uncovered[k][b][y]},
-             {"psnr_covered_db", s.psnr_covered[k][b][y]}});
+        j[kMeshNames[k]][kBlendNames[b]].push_back({{"yaw_deg", kYawsDeg[y]},
+                                                    {"psnr_db", s.psnr[k][b][y]},
+                                                    {"ssim", s.ssim[k][b][y]},
+                                                    {"uncovered_share", s.uncovered[k][b][y]},
+                                                    {"psnr_covered_db", s.psnr_covered[k][b][y]}});
   if (s.has_regions)
     for (int k = 0; k < kNumMeshes; ++k)
       for (int g = 0; g < kNumRegions; ++g)
@@ -255,7 +258,8 @@ json scores_json(const Scores& s) {
 // "| mesh | blend | 15 | 30 | ... |" with "mean (min)" cells for PSNR and SSIM.
 std::string summary_table(const std::vector<SubjectResult>& all, json& summary) {
   std::string md =
-      "| mesh | blend | metric | 15° | 30° | 45° | 60° | 75° |\n|---|---|---|---|---|---|---|---|\n";
+      "| mesh | blend | metric | 15° | 30° | 45° | 60° | 75° "
+      "|\n|---|---|---|---|---|---|---|---|\n";
   int n = 0;
   for (const auto& r : all) n += r.ok;
   if (n == 0) return md;
@@ -285,7 +289,8 @@ std::string summary_table(const std::vector<SubjectResult>& all, json& summary) 
 // Mean over subjects at 45 deg, pick: share of the face mask the mesh leaves uncovered and
 // PSNR over the covered part (where the error comes from: extent vs texture registration).
 std::string coverage_table(const std::vector<SubjectResult>& all) {
-  std::string md = "| mesh | uncovered face mask | PSNR where covered | PSNR (metric) |\n|---|---|---|---|\n";
+  std::string md =
+      "| mesh | uncovered face mask | PSNR where covered | PSNR (metric) |\n|---|---|---|---|\n";
   for (int k = 0; k < kNumMeshes; ++k) {
     double u = 0, pc = 0, p = 0;
     int n = 0;
@@ -293,7 +298,9 @@ std::string coverage_table(const std::vector<SubjectResult>& all) {
       if (r.ok)
         u += r.s.uncovered[k][0][kHeadlineYaw], pc += r.s.psnr_covered[k][0][kHeadlineYaw],
             p += r.s.psnr[k][0][kHeadlineYaw], ++n;
-    if (n) md += cv::format("| %s | %.1f %% | %.1f dB | %.1f dB |\n", kMeshNames[k], 100 * u / n, pc / n, p / n);
+    if (n)
+      md += cv::format("| %s | %.1f %% | %.1f dB | %.1f dB |\n", kMeshNames[k], 100 * u / n, pc / n,
+                       p / n);
   }
   return md;
 }
@@ -334,7 +341,8 @@ std::string headline_table(const std::vector<SubjectResult>& all) {
     }
     md += "| " + r.label + " |";
     for (int k = 0; k < kNumMeshes; ++k)
-      md += cv::format(" %.1f / %.3f |", r.s.psnr[k][0][kHeadlineYaw], r.s.ssim[k][0][kHeadlineYaw]);
+      md +=
+          cv::format(" %.1f / %.3f |", r.s.psnr[k][0][kHeadlineYaw], r.s.ssim[k][0][kHeadlineYaw]);
     md += "\n";
   }
   return md;
@@ -348,23 +356,26 @@ int run_sim(int subjects, const std::string& out_dir) {
   std::vector<SubjectResult> all;
   json out;
   for (int seed = 0; seed < subjects; ++seed) {
-    const std::string picture =
-        out_dir.empty() || seed > 2 ? "" : out_dir + "/views_error_seed" + std::to_string(seed) + ".png";
-    all.push_back(run_subject(sim::make_head(seed), "seed " + std::to_string(seed), ideal,
-                              renderer, picture));
-    std::cerr << all.back().label << (all.back().ok ? "" : ": failed " + all.back().error)
-              << "\n";
+    const std::string picture = out_dir.empty() || seed > 2
+                                    ? ""
+                                    : out_dir + "/views_error_seed" + std::to_string(seed) + ".png";
+    all.push_back(run_subject(sim::make_head(seed), "seed " + std::to_string(seed), ideal, renderer,
+                              picture));
+    std::cerr << all.back().label << (all.back().ok ? "" : ": failed " + all.back().error) << "\n";
     out["sim"]["per_subject"].push_back(
-        {{"seed", seed}, {"ok", all.back().ok}, {"error", all.back().error},
+        {{"seed", seed},
+         {"ok", all.back().ok},
+         {"error", all.back().error},
          {"scores", all.back().ok ? scores_json(all.back().s) : json()}});
   }
   std::string md = "### Simulated subjects, seeds 0.." + std::to_string(subjects - 1) +
                    ", ideal rig 640x480 (mean (min) over subjects)\n\n";
   md += summary_table(all, out["sim"]["summary"]);
   md += "\n### Where the error is, 45°, pick (mean over subjects)\n\n" + coverage_table(all);
-  md += "\nUncovered face mask by where it lies on the true head (far = the side turned away "
-        "from the camera; bands between brow, nose tip, mouth corners and chin bottom):\n\n" +
-        region_table(all);
+  md +=
+      "\nUncovered face mask by where it lies on the true head (far = the side turned away "
+      "from the camera; bands between brow, nose tip, mouth corners and chin bottom):\n\n" +
+      region_table(all);
   md += "\n### Per subject at 45°, pick (PSNR dB / SSIM)\n\n" + headline_table(all);
   int n_ok = 0;
   for (const auto& r : all) n_ok += r.ok;
@@ -376,12 +387,17 @@ int run_sim(int subjects, const std::string& out_dir) {
     std::vector<SubjectResult> scans;
     sim::RigOptions persp;
     persp.kind = sim::RigKind::Perspective;
-    for (const auto& [name, rig] : {std::pair{"perspective rig", persp}, std::pair{"ideal rig", ideal}}) {
+    for (const auto& [name, rig] :
+         {std::pair{"perspective rig", persp}, std::pair{"ideal rig", ideal}}) {
       const std::string picture =
-          out_dir.empty() ? "" : out_dir + "/views_error_lps_" + std::string(name).substr(0, 5) + ".png";
-      scans.push_back(run_subject(lps, std::string("Lee Perry-Smith, ") + name, rig, renderer, picture));
-      out["lee_perry_smith"][name] = {{"ok", scans.back().ok}, {"error", scans.back().error},
-                                      {"scores", scans.back().ok ? scores_json(scans.back().s) : json()}};
+          out_dir.empty() ? ""
+                          : out_dir + "/views_error_lps_" + std::string(name).substr(0, 5) + ".png";
+      scans.push_back(
+          run_subject(lps, std::string("Lee Perry-Smith, ") + name, rig, renderer, picture));
+      out["lee_perry_smith"][name] = {
+          {"ok", scans.back().ok},
+          {"error", scans.back().error},
+          {"scores", scans.back().ok ? scores_json(scans.back().s) : json()}};
     }
     for (const auto& s : scans) {
       md += "\n### " + s.label + " (PSNR dB / SSIM)\n\n";
@@ -403,12 +419,12 @@ int run_sim(int subjects, const std::string& out_dir) {
 
 int main(int argc, char** argv) {
   try {
-    if (argc > 1 && std::string(argv[argc - 1]) == "--no-photo-masks") g_photo_masks = false, --argc;
+    if (argc > 1 && std::string(argv[argc - 1]) == "--no-photo-masks")
+      g_photo_masks = false, --argc;
     if (argc > 2 && std::string(argv[argc - 2]) == "--landmarker")
       g_landmarker = vision::parse_front_landmarker(argv[argc - 1]), argc -= 2;
     const std::string mode = argc > 1 ? argv[1] : "";
-    if (mode == "sim")
-      return run_sim(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
+    if (mode == "sim") return run_sim(argc > 2 ? std::stoi(argv[2]) : 20, argc > 3 ? argv[3] : "");
     std::cerr << "usage: views_bench sim [SUBJECTS] [OUTDIR] [--landmarker L] [--no-photo-masks]\n"
                  "(real photos: real_views_bench)\n";
     return 2;

@@ -2,16 +2,17 @@
 //   vision_bench speed [reps]          observe() on a 640x480 sim front + side pair (median ms)
 //   vision_bench stages [reps]         median CPU ms of each vision stage on the same pair
 //   (VISION_THREADS=N sets cv::setNumThreads for speed / stages)
-//   vision_bench sim [subjects] [filters|network|consensus]  accuracy over sim subjects, ideal rig, 4
+//   vision_bench sim [subjects] [filters|network|consensus]  accuracy over sim subjects, ideal rig,
+//   4
 //                                      conditions, with that front landmarker
 //   vision_bench simshow SEED OUT [COND]  one sim subject: truth (green) vs detection overlays,
 //                                      per-landmark truth / detected px and error
-//   vision_bench frmdb DIR OUT         real FRMDB pairs (Img_33 front, Img_53 side), overlays in OUT
-//   vision_bench ibug DIR              eye / nose / mouth centre error / inter-ocular distance
+//   vision_bench frmdb DIR OUT         real FRMDB pairs (Img_33 front, Img_53 side), overlays in
+//   OUT vision_bench ibug DIR              eye / nose / mouth centre error / inter-ocular distance
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -26,10 +27,10 @@
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/image_prep.h"
-#include "vision/segment.h"
-#include "vision/side_profile.h"
 #include "vision/observe.h"
 #include "vision/overlay.h"
+#include "vision/segment.h"
+#include "vision/side_profile.h"
 
 namespace ov = orthoface::vision;
 namespace sim = orthoface::sim;
@@ -54,13 +55,20 @@ int speed(int reps) {
     const double c0 = process_cpu_ms();
     ov::observe(cap.front, cap.side);
     cpu.push_back(process_cpu_ms() - c0);
-    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
   }
   std::sort(ms.begin(), ms.end());
   std::sort(cpu.begin(), cpu.end());
-  std::cout << json{{"benchmark", "observe_640x480_pair"}, {"reps", reps}, {"median_ms", ms[ms.size() / 2]},
-                    {"min_ms", ms.front()}, {"max_ms", ms.back()}, {"median_cpu_ms", cpu[cpu.size() / 2]},
-                    {"target_ms", 8.0}}.dump(1) << "\n";
+  std::cout << json{{"benchmark", "observe_640x480_pair"},
+                    {"reps", reps},
+                    {"median_ms", ms[ms.size() / 2]},
+                    {"min_ms", ms.front()},
+                    {"max_ms", ms.back()},
+                    {"median_cpu_ms", cpu[cpu.size() / 2]},
+                    {"target_ms", 8.0}}
+                   .dump(1)
+            << "\n";
   return 0;
 }
 
@@ -84,22 +92,31 @@ int stages(int reps) {
   const cv::Mat front = ov::to_bgr8(cap.front, "front"), side = ov::to_bgr8(cap.side, "side");
   json t = json::object();
   cv::Mat fprob, fmask, sprob, smask;
-  t["to_bgr8_pair"] = median_ms(reps, [&] { ov::to_bgr8(cap.front, "f"), ov::to_bgr8(cap.side, "s"); });
-  t["foreground_probability_front"] = median_ms(reps, [&] { fprob = ov::foreground_probability(front, {}); });
+  t["to_bgr8_pair"] =
+      median_ms(reps, [&] { ov::to_bgr8(cap.front, "f"), ov::to_bgr8(cap.side, "s"); });
+  t["foreground_probability_front"] =
+      median_ms(reps, [&] { fprob = ov::foreground_probability(front, {}); });
   t["head_mask_front"] = median_ms(reps, [&] { fmask = ov::head_mask(fprob); });
-  t["foreground_probability_side"] = median_ms(reps, [&] { sprob = ov::foreground_probability(side, {}); });
+  t["foreground_probability_side"] =
+      median_ms(reps, [&] { sprob = ov::foreground_probability(side, {}); });
   t["head_mask_side"] = median_ms(reps, [&] { smask = ov::head_mask(sprob); });
   t["edge_image_prob"] = median_ms(reps, [&] { ov::edge_image(fprob, {0.7, 0.1}); });
-  t["profile_faces_left"] = median_ms(reps, [&] { double c; ov::profile_faces_left(smask, side, &c); });
+  t["profile_faces_left"] = median_ms(reps, [&] {
+    double c;
+    ov::profile_faces_left(smask, side, &c);
+  });
   ov::SideProfile sp;
   t["side_profile"] = median_ms(reps, [&] { sp = ov::side_profile(side, sprob, smask); });
   ov::FrontBoundary fb;
   t["front_boundary"] = median_ms(reps, [&] { fb = ov::front_boundary(fprob, fmask, -1); });
   std::map<std::string, double> rows;
   for (const auto& [n, f] : sp.features) rows[n] = f.px.y;
-  t["front_features"] = median_ms(reps, [&] { ov::front_features(front, fb, rows, sp.head_height_px); });
+  t["front_features"] =
+      median_ms(reps, [&] { ov::front_features(front, fb, rows, sp.head_height_px); });
   t["observe"] = median_ms(reps, [&] { ov::observe(cap.front, cap.side); });
-  std::cout << json{{"benchmark", "observe_stages_median_ms"}, {"reps", reps}, {"stages", t}}.dump(1) << "\n";
+  std::cout << json{{"benchmark", "observe_stages_median_ms"}, {"reps", reps}, {"stages", t}}.dump(
+                   1)
+            << "\n";
   return 0;
 }
 
@@ -107,8 +124,10 @@ sim::RigOptions condition(const std::string& name, int seed) {
   sim::RigOptions o;
   o.seed = std::uint64_t(seed);
   if (name == "noise_blur") o.noise_sigma = 4, o.blur_sigma = 0.8;
-  if (name == "roll_yaw") o.front_error.roll_deg = 1.0, o.front_error.yaw_deg = 2.0, o.side_error.yaw_deg = 2.0;
-  if (name == "all") o.noise_sigma = 4, o.blur_sigma = 0.8, o.front_error.roll_deg = 1.0, o.side_error.yaw_deg = 2.0;
+  if (name == "roll_yaw")
+    o.front_error.roll_deg = 1.0, o.front_error.yaw_deg = 2.0, o.side_error.yaw_deg = 2.0;
+  if (name == "all")
+    o.noise_sigma = 4, o.blur_sigma = 0.8, o.front_error.roll_deg = 1.0, o.side_error.yaw_deg = 2.0;
   return o;
 }
 
@@ -124,7 +143,8 @@ int accuracy(int subjects, ov::FrontLandmarker landmarker) {
     double worst = -1;
     int worst_seed = -1;
     for (int seed = 0; seed < subjects; ++seed) {
-      const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(seed)), condition(cond, seed), renderer);
+      const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(seed)),
+                                                     condition(cond, seed), renderer);
       const ov::FaceObservation obs = ov::observe(cap.front, cap.side, oo);
       const ot::SimScore s = ot::score(obs, cap);
       for (const auto& [n, e] : s.front_err) per["front:" + n].push_back(e), all.push_back(e);
@@ -132,18 +152,24 @@ int accuracy(int subjects, ov::FrontLandmarker landmarker) {
       bnd.push_back(s.boundary_err);
       prof.push_back(s.profile_err);
       const double med = ot::median(ot::all_errors(s));
-      subj.push_back({{"seed", seed}, {"median_px", med}, {"boundary_px", s.boundary_err},
-                      {"profile_px", s.profile_err}, {"missing", s.missing.size()}, {"warnings", obs.warnings}});
+      subj.push_back({{"seed", seed},
+                      {"median_px", med},
+                      {"boundary_px", s.boundary_err},
+                      {"profile_px", s.profile_err},
+                      {"missing", s.missing.size()},
+                      {"warnings", obs.warnings}});
       if (med > worst) worst = med, worst_seed = seed;
     }
     json lm = json::object();
-    for (const auto& [n, v] : per) lm[n] = {{"median_px", ot::median(v)}, {"max_px", *std::max_element(v.begin(), v.end())}};
+    for (const auto& [n, v] : per)
+      lm[n] = {{"median_px", ot::median(v)}, {"max_px", *std::max_element(v.begin(), v.end())}};
     double mb = 0, mp = 0;
     for (double b : bnd) mb += b / bnd.size();
     for (double p : prof) mp += p / prof.size();
-    out[cond] = {{"subjects", subjects}, {"median_landmark_px", ot::median(all)}, {"boundary_mean_px", mb},
-                 {"profile_mean_px", mp}, {"worst_subject", worst_seed}, {"worst_median_px", worst},
-                 {"per_landmark", lm}, {"per_subject", subj}};
+    out[cond] = {{"subjects", subjects},        {"median_landmark_px", ot::median(all)},
+                 {"boundary_mean_px", mb},      {"profile_mean_px", mp},
+                 {"worst_subject", worst_seed}, {"worst_median_px", worst},
+                 {"per_landmark", lm},          {"per_subject", subj}};
   }
   std::cout << out.dump(1) << "\n";
   return 0;
@@ -152,7 +178,8 @@ int accuracy(int subjects, ov::FrontLandmarker landmarker) {
 // One subject in detail: overlays (front, side) with the truth drawn as green crosses, x3.
 int simshow(int seed, const std::string& outdir, const std::string& cond) {
   std::filesystem::create_directories(outdir);
-  const sim::Capture cap = sim::simulate_capture(sim::make_head(sim::head_params(seed)), condition(cond, seed));
+  const sim::Capture cap =
+      sim::simulate_capture(sim::make_head(sim::head_params(seed)), condition(cond, seed));
   const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
   cv::Mat f = ov::overlay_front(cap.front, obs), s = ov::overlay_side(cap.side, obs);
   const double k = 3;
@@ -186,14 +213,23 @@ int simshow(int seed, const std::string& outdir, const std::string& cond) {
   cv::imwrite(base + "_front.png", f);
   cv::imwrite(base + "_side.png", s);
   // Close-ups around the face (front) and the profile below the brows (side).
-  const auto crop = [&](const cv::Mat& m, cv::Rect r) { return m(r & cv::Rect(0, 0, m.cols, m.rows)); };
+  const auto crop = [&](const cv::Mat& m, cv::Rect r) {
+    return m(r & cv::Rect(0, 0, m.cols, m.rows));
+  };
   if (cap.landmarks.count("nose_tip")) {
-    const Eigen::Vector2d tf = cap.landmarks.at("nose_tip").front_px, ts = cap.landmarks.at("nose_tip").side_px;
-    cv::imwrite(base + "_frontcrop.png", crop(f, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k), int(150 * k))));
+    const Eigen::Vector2d tf = cap.landmarks.at("nose_tip").front_px,
+                          ts = cap.landmarks.at("nose_tip").side_px;
+    cv::imwrite(base + "_frontcrop.png",
+                crop(f, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k),
+                                 int(150 * k))));
     cv::Mat raw;
     cv::resize(cap.front, raw, {}, k, k, cv::INTER_NEAREST);
-    cv::imwrite(base + "_frontraw.png", crop(raw, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k), int(150 * k))));
-    cv::imwrite(base + "_sidecrop.png", crop(s, cv::Rect(int((ts.x() - 30) * k), int((ts.y() - 70) * k), int(110 * k), int(160 * k))));
+    cv::imwrite(base + "_frontraw.png",
+                crop(raw, cv::Rect(int((tf.x() - 80) * k), int((tf.y() - 70) * k), int(160 * k),
+                                   int(150 * k))));
+    cv::imwrite(base + "_sidecrop.png",
+                crop(s, cv::Rect(int((ts.x() - 30) * k), int((ts.y() - 70) * k), int(110 * k),
+                                 int(160 * k))));
   }
   json sil = json::array();  // first head column of each side-mask row (the true silhouette)
   for (int r = 0; r < cap.side_mask.rows; ++r) {
@@ -201,7 +237,13 @@ int simshow(int seed, const std::string& outdir, const std::string& cond) {
     while (c < cap.side_mask.cols && !cap.side_mask.at<uchar>(r, c)) ++c;
     sil.push_back(c);
   }
-  std::cout << json{{"seed", seed}, {"condition", cond}, {"landmarks", out}, {"side_mask_first_col", sil}, {"warnings", obs.warnings}}.dump(1) << "\n";
+  std::cout << json{{"seed", seed},
+                    {"condition", cond},
+                    {"landmarks", out},
+                    {"side_mask_first_col", sil},
+                    {"warnings", obs.warnings}}
+                   .dump(1)
+            << "\n";
   return 0;
 }
 
@@ -211,8 +253,9 @@ cv::Mat points_only(const cv::Mat& front, const ov::FaceObservation& obs) {
   cv::Mat m = ov::to_bgr8(front, "front");
   for (const auto& [name, f] : obs.front.features) {
     const cv::Scalar col = f.mirrored ? cv::Scalar(255, 0, 255)
-                           : f.method.find("position-model") != std::string::npos ? cv::Scalar(0, 255, 255)
-                                                                                 : cv::Scalar(0, 0, 255);
+                           : f.method.find("position-model") != std::string::npos
+                               ? cv::Scalar(0, 255, 255)
+                               : cv::Scalar(0, 0, 255);
     cv::circle(m, f.px - cv::Point2d(0.5, 0.5), 1, col, cv::FILLED);
   }
   return m;
@@ -259,10 +302,14 @@ std::vector<cv::Point2d> read_pts(const std::string& path) {
   std::vector<cv::Point2d> p;
   bool in = false;
   while (std::getline(f, line)) {
-    if (line.find('{') != std::string::npos) { in = true; continue; }
+    if (line.find('{') != std::string::npos) {
+      in = true;
+      continue;
+    }
     if (line.find('}') != std::string::npos) break;
     double x, y;
-    if (in && std::sscanf(line.c_str(), "%lf %lf", &x, &y) == 2) p.emplace_back(x - 1 + 0.5, y - 1 + 0.5);
+    if (in && std::sscanf(line.c_str(), "%lf %lf", &x, &y) == 2)
+      p.emplace_back(x - 1 + 0.5, y - 1 + 0.5);
   }
   return p;
 }
@@ -285,7 +332,8 @@ int ibug(const std::string& dir) {
     try {
       const cv::Mat im = ov::read_image(img);
       const ov::FaceObservation obs = ov::observe_front(im);
-      const cv::Point2d er = mean_of(pts, 36, 41), el = mean_of(pts, 42, 47);  // image-left, image-right
+      const cv::Point2d er = mean_of(pts, 36, 41),
+                        el = mean_of(pts, 42, 47);  // image-left, image-right
       const double iod = cv::norm(el - er);
       const auto err = [&](const char* n, cv::Point2d t) {
         const auto it = obs.front.features.find(n);
@@ -294,9 +342,12 @@ int ibug(const std::string& dir) {
       r["eye_right_center"] = err("eye_right_center", er);
       r["eye_left_center"] = err("eye_left_center", el);
       r["nose_tip"] = err("nose_tip", pts[30]);
-      const auto ml = obs.front.features.find("mouth_left"), mr = obs.front.features.find("mouth_right");
-      r["mouth_centre"] = (ml == obs.front.features.end() || mr == obs.front.features.end())
-                              ? -1.0 : cv::norm((ml->second.px + mr->second.px) / 2 - mean_of(pts, 48, 67)) / iod;
+      const auto ml = obs.front.features.find("mouth_left"),
+                 mr = obs.front.features.find("mouth_right");
+      r["mouth_centre"] =
+          (ml == obs.front.features.end() || mr == obs.front.features.end())
+              ? -1.0
+              : cv::norm((ml->second.px + mr->second.px) / 2 - mean_of(pts, 48, 67)) / iod;
       r["inter_ocular_px"] = iod;
       r["warnings"] = obs.warnings;
       cv::imwrite("/tmp/vision_ibug_" + name + ".png", ov::overlay_front(im, obs));
@@ -320,13 +371,15 @@ int main(int argc, char** argv) {
     if (mode == "sim")
       return accuracy(argc > 2 ? std::stoi(argv[2]) : 20,
                       ov::parse_front_landmarker(argc > 3 ? argv[3] : "filters"));
-    if (mode == "simshow" && argc > 3) return simshow(std::stoi(argv[2]), argv[3], argc > 4 ? argv[4] : "ideal");
+    if (mode == "simshow" && argc > 3)
+      return simshow(std::stoi(argv[2]), argv[3], argc > 4 ? argv[4] : "ideal");
     if (mode == "frmdb" && argc > 3) return frmdb(argv[2], argv[3]);
     if (mode == "ibug" && argc > 2) return ibug(argv[2]);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;
   }
-  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] [filters|network|consensus] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
+  std::cerr << "usage: vision_bench speed [reps] | stages [reps] | sim [subjects] "
+               "[filters|network|consensus] | simshow SEED OUT [COND] | frmdb DIR OUT | ibug DIR\n";
   return 2;
 }

@@ -134,8 +134,9 @@ void Checkerboard::check() const {
   if (cols < 3 || rows < 3 || cols > 64 || rows > 64)
     throw std::invalid_argument("Checkerboard: cols and rows (inner corners) must be in 3..64");
   if ((cols + rows) % 2 == 0)
-    throw std::invalid_argument("Checkerboard: cols + rows must be odd (e.g. 9x6), or the board's "
-                                "orientation is ambiguous");
+    throw std::invalid_argument(
+        "Checkerboard: cols + rows must be odd (e.g. 9x6), or the board's "
+        "orientation is ambiguous");
   if (!(square_mm > 0 && square_mm < 1000))
     throw std::invalid_argument("Checkerboard: square_mm must be in (0, 1000)");
 }
@@ -145,12 +146,14 @@ void CalibrationOptions::check() const {
   if (min_views < 3) throw std::invalid_argument("CalibrationOptions: min_views must be >= 3");
   if (min_shared_views < 1)
     throw std::invalid_argument("CalibrationOptions: min_shared_views must be >= 1");
-  if (!(pixel_noise > 0)) throw std::invalid_argument("CalibrationOptions: pixel_noise must be > 0");
+  if (!(pixel_noise > 0))
+    throw std::invalid_argument("CalibrationOptions: pixel_noise must be > 0");
   if (!(max_translation_sd_mm > 0))
     throw std::invalid_argument("CalibrationOptions: max_translation_sd_mm must be > 0");
 }
 
-std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image, const Checkerboard& board) {
+std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image,
+                                                   const Checkerboard& board) {
   board.check();
   if (image.empty()) throw std::invalid_argument("find_board: empty image");
   cv::Mat grey = image;
@@ -176,7 +179,8 @@ std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image, const C
     const cv::Point2f outward = corners[0] + 0.5f * (corners[0] - corners[board.cols + 1]);
     const cv::Point2f inward = corners[0] + 0.5f * (corners[board.cols + 1] - corners[0]);
     auto level = [&grey](cv::Point2f p) {
-      const int x = std::clamp(int(p.x), 0, grey.cols - 1), y = std::clamp(int(p.y), 0, grey.rows - 1);
+      const int x = std::clamp(int(p.x), 0, grey.cols - 1),
+                y = std::clamp(int(p.y), 0, grey.rows - 1);
       return int(grey.at<unsigned char>(y, x));
     };
     if (level(outward) > level(inward)) std::reverse(corners.begin(), corners.end());
@@ -220,7 +224,8 @@ const char* kAxisNames[3] = {"x (front image right)", "y (front image down)",
 
 }  // namespace
 
-RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front, const std::vector<cv::Mat>& side,
+RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front,
+                                   const std::vector<cv::Mat>& side,
                                    const CalibrationOptions& options) {
   options.check();
   check_inputs(front, side);
@@ -230,7 +235,8 @@ RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front, const std:
   for (size_t i = 0; i < front.size(); ++i) {
     auto f = find_board(front[i], b);
     auto s = find_board(side[i], b);
-    if (f && s) shared_f.push_back(int(fv.corners.size())), shared_s.push_back(int(sv.corners.size()));
+    if (f && s)
+      shared_f.push_back(int(fv.corners.size())), shared_s.push_back(int(sv.corners.size()));
     if (f) fv.corners.push_back(*f), fv.index.push_back(int(i));
     if (s) sv.corners.push_back(*s), sv.index.push_back(int(i));
   }
@@ -264,8 +270,8 @@ RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front, const std:
     cv::solvePnP(board_points(b), c, kf, df, rv, tv);
     front_from_board.push_back(to_iso(rv, tv));
   }
-  rep.translation_sd_mm = translation_sd(front_from_board, rep.side_from_front, rep.rig.side, b,
-                                         options.pixel_noise);
+  rep.translation_sd_mm =
+      translation_sd(front_from_board, rep.side_from_front, rep.rig.side, b, options.pixel_noise);
   for (int a = 0; a < 3; ++a)
     if (!(rep.translation_sd_mm[a] <= options.max_translation_sd_mm))
       throw std::runtime_error(
@@ -278,7 +284,8 @@ RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front, const std:
   rep.rig.side.cam_from_head = rep.side_from_front * f_h;
   rep.rig.source = "calibrated from " + std::to_string(front.size()) + " image pairs";
   for (double rms : {rep.rms_front_px, rep.rms_side_px, rep.rms_stereo_px})
-    if (rms > 1.0) rep.warnings.push_back("reprojection error " + std::to_string(rms) + " px > 1 px");
+    if (rms > 1.0)
+      rep.warnings.push_back("reprojection error " + std::to_string(rms) + " px > 1 px");
   return rep;
 }
 

@@ -20,9 +20,9 @@ struct Checkerboard {
 
 struct CalibrationOptions {
   Checkerboard board;
-  int min_views = 4;              // per camera, views showing the whole board (intrinsics)
-  int min_shared_views = 2;       // views where both cameras see the board (the 90 deg pose)
-  double pixel_noise = 0.5;       // assumed corner noise (px) for the pose uncertainty
+  int min_views = 4;                 // per camera, views showing the whole board (intrinsics)
+  int min_shared_views = 2;          // views where both cameras see the board (the 90 deg pose)
+  double pixel_noise = 0.5;          // assumed corner noise (px) for the pose uncertainty
   double max_translation_sd_mm = 3;  // larger predicted uncertainty on an axis: "more views"
   void check() const;
 };
@@ -33,7 +33,7 @@ struct CalibrationOptions {
 std::optional<std::vector<cv::Point2f>> find_board(const cv::Mat& image, const Checkerboard& board);
 
 struct RigCalibrationReport {
-  RigCalibration rig;               // perspective models, cam_from_head as defined below
+  RigCalibration rig;  // perspective models, cam_from_head as defined below
   double rms_front_px = 0, rms_side_px = 0, rms_stereo_px = 0;  // reprojection errors
   int views_front = 0, views_side = 0, views_shared = 0;
   Eigen::Isometry3d side_from_front = Eigen::Isometry3d::Identity();
@@ -48,7 +48,8 @@ struct RigCalibrationReport {
 // camera (DESIGN.md). Throws std::invalid_argument on unequal counts or sizes, std::runtime_error
 // when too few views show the board or the pose leaves a translation axis unconstrained
 // (predicted sd > max_translation_sd_mm: the message says which axis and asks for more views).
-RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front, const std::vector<cv::Mat>& side,
+RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front,
+                                   const std::vector<cv::Mat>& side,
                                    const CalibrationOptions& options = {});
 
 // Angle (deg) of the rotation between two poses' rotations, and distance between translations.

@@ -57,8 +57,7 @@ std::unique_ptr<Camera> open_camera(const std::string& id) {
     throw std::runtime_error("camera " + id + ": this build has no libcamera support");
 #endif
   }
-  if (starts_with(id, "/") || starts_with(id, "."))
-    return std::make_unique<V4l2Camera>(id);
+  if (starts_with(id, "/") || starts_with(id, ".")) return std::make_unique<V4l2Camera>(id);
   if (starts_with(id, "sim:"))
     throw std::runtime_error("camera " + id + ": the simulated rig backend is not registered");
   throw std::runtime_error("camera " + id +

@@ -50,17 +50,17 @@ struct FrameResult {
 class Camera {
  public:
   virtual ~Camera() = default;
-  virtual std::string name() const = 0;                    // the id it was opened with
-  virtual std::vector<CameraFormat> formats() const = 0;   // modes offered
-  virtual void start(const CameraFormat& format) = 0;      // throws if the mode is not offered
-  virtual FrameResult next_frame(double timeout_s) = 0;    // requires start()
-  virtual void stop() = 0;                                 // idempotent
+  virtual std::string name() const = 0;                   // the id it was opened with
+  virtual std::vector<CameraFormat> formats() const = 0;  // modes offered
+  virtual void start(const CameraFormat& format) = 0;     // throws if the mode is not offered
+  virtual FrameResult next_frame(double timeout_s) = 0;   // requires start()
+  virtual void stop() = 0;                                // idempotent
 };
 
 // A listed device and its modes (for `orthoface devices`).
 struct DeviceInfo {
-  std::string id;      // what open_camera takes: "/dev/video0", "libcamera:...", "sim:3/front"
-  std::string label;   // driver / card name
+  std::string id;     // what open_camera takes: "/dev/video0", "libcamera:...", "sim:3/front"
+  std::string label;  // driver / card name
   std::vector<CameraFormat> formats;
 };
 

@@ -34,8 +34,9 @@ void write_camera(cv::FileStorage& fs, const std::string& key, const CameraModel
   fs << "width" << c.width << "height" << c.height;
   cv::Mat k = (cv::Mat_<double>(3, 3) << c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1);
   fs << "camera_matrix" << k;
-  fs << "distortion" << cv::Mat(c.distortion.empty() ? std::vector<double>(5, 0.0) : c.distortion,
-                                true).reshape(1, 1);
+  fs << "distortion"
+     << cv::Mat(c.distortion.empty() ? std::vector<double>(5, 0.0) : c.distortion, true)
+            .reshape(1, 1);
   cv::Mat pose;
   cv::eigen2cv(Eigen::Matrix4d(c.cam_from_head.matrix()), pose);
   fs << "cam_from_head" << pose;
@@ -64,9 +65,12 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
   CameraModel c;
   std::string proj;
   n["projection"] >> proj;
-  if (proj == "orthographic") c.projection = Projection::Orthographic;
-  else if (proj == "perspective") c.projection = Projection::Perspective;
-  else fail("projection must be orthographic or perspective, got '" + proj + "'");
+  if (proj == "orthographic")
+    c.projection = Projection::Orthographic;
+  else if (proj == "perspective")
+    c.projection = Projection::Perspective;
+  else
+    fail("projection must be orthographic or perspective, got '" + proj + "'");
   if (n["width"].empty() || n["height"].empty()) fail("missing width/height");
   n["width"] >> c.width;
   n["height"] >> c.height;
@@ -170,8 +174,9 @@ RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left) {
                                 "x" + std::to_string(s.height) + " is not positive");
   if (!(s.fx > 0) || !(s.fy > 0) || !std::isfinite(s.fx) || !std::isfinite(s.fy) ||
       !std::isfinite(s.cx) || !std::isfinite(s.cy) || !s.cam_from_head.matrix().allFinite())
-    throw std::invalid_argument("photo rig: side camera: camera needs finite fx, fy > 0, cx, cy "
-                                "and pose");
+    throw std::invalid_argument(
+        "photo rig: side camera: camera needs finite fx, fy > 0, cx, cy "
+        "and pose");
   // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
   // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
   const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
@@ -194,8 +199,7 @@ RigCalibration ideal_rig(int width, int height, double px_per_mm) {
   if (width <= 0 || height <= 0)
     throw std::invalid_argument("ideal_rig: image size must be positive, got " +
                                 std::to_string(width) + "x" + std::to_string(height));
-  if (!(px_per_mm > 0))
-    throw std::invalid_argument("ideal_rig: px_per_mm must be positive");
+  if (!(px_per_mm > 0)) throw std::invalid_argument("ideal_rig: px_per_mm must be positive");
   CameraModel base;
   base.projection = Projection::Orthographic;
   base.width = width;

@@ -20,9 +20,9 @@ enum class Projection { Orthographic, Perspective };
 // corner of the top-left pixel is (0,0), so the centre of pixel (c, r) is (c + 0.5, r + 0.5).
 struct CameraModel {
   Projection projection = Projection::Orthographic;
-  int width = 640;   // image size, pixels
+  int width = 640;  // image size, pixels
   int height = 480;
-  double fx = 1.0;   // pixels per mm (orthographic) or focal length in pixels (perspective)
+  double fx = 1.0;  // pixels per mm (orthographic) or focal length in pixels (perspective)
   double fy = 1.0;
   double cx = 320.0;  // principal point, pixels
   double cy = 240.0;
@@ -33,8 +33,8 @@ struct CameraModel {
 // The two cameras of a station. In the ideal rig of seed 004 both are orthographic with equal
 // scale and principal row, so a head point's row is the same in both images (seed 004 eq. 1).
 struct RigCalibration {
-  CameraModel front;  // looks along -z of the head frame
-  CameraModel side;   // looks along -x of the head frame; the face (+z) appears on the image left
+  CameraModel front;   // looks along -z of the head frame
+  CameraModel side;    // looks along -x of the head frame; the face (+z) appears on the image left
   std::string source;  // where it came from ("ideal default", file path, "sim", ...)
 };
 

@@ -35,8 +35,11 @@ lc::CameraManager& manager() {
 // libcamera formats we convert, and the V4L2-style name used in CameraFormat::fourcc.
 // (libcamera's RGB888 is B,G,R in memory, i.e. OpenCV's BGR.)
 const std::map<std::string, std::string>& names() {
-  static const std::map<std::string, std::string> m = {
-      {"RGB888", "BGR3"}, {"BGR888", "RGB3"}, {"YUYV", "YUYV"}, {"MJPEG", "MJPG"}, {"NV12", "NV12"}};
+  static const std::map<std::string, std::string> m = {{"RGB888", "BGR3"},
+                                                       {"BGR888", "RGB3"},
+                                                       {"YUYV", "YUYV"},
+                                                       {"MJPEG", "MJPG"},
+                                                       {"NV12", "NV12"}};
   return m;
 }
 
@@ -161,18 +164,23 @@ cv::Mat LibcameraCamera::convert(const lc::FrameBuffer& buffer) const {
   const size_t used = buffer.metadata().planes()[0].bytesused;
   cv::Mat out;
   if (fourcc_ == "BGR3") out = cv::Mat(height_, width_, CV_8UC3, base, stride_).clone();
-  if (fourcc_ == "RGB3") cv::cvtColor(cv::Mat(height_, width_, CV_8UC3, base, stride_), out, cv::COLOR_RGB2BGR);
-  if (fourcc_ == "YUYV") cv::cvtColor(cv::Mat(height_, width_, CV_8UC2, base, stride_), out, cv::COLOR_YUV2BGR_YUYV);
+  if (fourcc_ == "RGB3")
+    cv::cvtColor(cv::Mat(height_, width_, CV_8UC3, base, stride_), out, cv::COLOR_RGB2BGR);
+  if (fourcc_ == "YUYV")
+    cv::cvtColor(cv::Mat(height_, width_, CV_8UC2, base, stride_), out, cv::COLOR_YUV2BGR_YUYV);
   if (fourcc_ == "NV12")  // Y plane then interleaved UV, same stride (single dmabuf)
-    cv::cvtColor(cv::Mat(height_ * 3 / 2, width_, CV_8UC1, base, stride_), out, cv::COLOR_YUV2BGR_NV12);
-  if (fourcc_ == "MJPG") out = cv::imdecode(cv::Mat(1, int(std::min(used, length)), CV_8U, base), cv::IMREAD_COLOR);
+    cv::cvtColor(cv::Mat(height_ * 3 / 2, width_, CV_8UC1, base, stride_), out,
+                 cv::COLOR_YUV2BGR_NV12);
+  if (fourcc_ == "MJPG")
+    out = cv::imdecode(cv::Mat(1, int(std::min(used, length)), CV_8U, base), cv::IMREAD_COLOR);
   return out;
 }
 
 FrameResult LibcameraCamera::next_frame(double timeout_s) {
   if (!running_) throw std::runtime_error("camera " + name() + ": next_frame before start");
   std::unique_lock<std::mutex> lock(m_);
-  cv_.wait_for(lock, std::chrono::duration<double>(timeout_s), [this] { return lost_ || !done_.empty(); });
+  cv_.wait_for(lock, std::chrono::duration<double>(timeout_s),
+               [this] { return lost_ || !done_.empty(); });
   if (lost_) return {FrameStatus::Disconnected, {}, "camera " + name() + ": disconnected"};
   if (done_.empty()) return {FrameStatus::Timeout, {}, "camera " + name() + ": no frame in time"};
   lc::Request* request = done_.front();
@@ -185,8 +193,8 @@ FrameResult LibcameraCamera::next_frame(double timeout_s) {
     r.frame.sequence = buffer->metadata().sequence;
     // FrameMetadata::timestamp: ns, CLOCK_MONOTONIC (from the V4L2 buffer, end of frame).
     const auto sensor = request->metadata().get(lc::controls::SensorTimestamp);
-    const uint64_t ns = buffer->metadata().timestamp ? buffer->metadata().timestamp
-                                                     : uint64_t(sensor.value_or(0));
+    const uint64_t ns =
+        buffer->metadata().timestamp ? buffer->metadata().timestamp : uint64_t(sensor.value_or(0));
     r.frame.timestamp_s = ns ? double(ns) * 1e-9 : monotonic_now_s();
     if (!r.frame.image.empty()) r.status = FrameStatus::Ok, r.message.clear();
   }
@@ -228,7 +236,8 @@ std::vector<DeviceInfo> list_libcamera_devices() {
   std::vector<DeviceInfo> out;
   for (const auto& cam : manager().cameras()) {
     const auto model = cam->properties().get(lc::properties::Model);
-    out.push_back({"libcamera:" + cam->id(), model.value_or("libcamera camera"), camera_formats(*cam)});
+    out.push_back(
+        {"libcamera:" + cam->id(), model.value_or("libcamera camera"), camera_formats(*cam)});
   }
   return out;
 }

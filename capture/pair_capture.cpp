@@ -92,7 +92,8 @@ CameraFormat pick_format(Camera& cam, const PairCaptureOptions& o) {
 void PairCaptureOptions::check() const {
   if (width <= 0 || height <= 0 || width > 8192 || height > 8192)
     throw std::invalid_argument("PairCaptureOptions: width/height must be in 1..8192");
-  if (!(fps > 0 && fps <= 1000)) throw std::invalid_argument("PairCaptureOptions: fps must be in (0, 1000]");
+  if (!(fps > 0 && fps <= 1000))
+    throw std::invalid_argument("PairCaptureOptions: fps must be in (0, 1000]");
   if (!(max_skew_s > 0)) throw std::invalid_argument("PairCaptureOptions: max_skew_s must be > 0");
   if (!(reopen_interval_s > 0))
     throw std::invalid_argument("PairCaptureOptions: reopen_interval_s must be > 0");
@@ -120,8 +121,8 @@ std::vector<FramePair> pair_frames(const std::vector<Frame>& front, const std::v
     for (FramePair& f : v) out.push_back(std::move(f));
   };
   while (i < front.size() || j < side.size()) {  // merge in time order, as frames arrive
-    const bool f = j >= side.size() ||
-                   (i < front.size() && front[i].timestamp_s <= side[j].timestamp_s);
+    const bool f =
+        j >= side.size() || (i < front.size() && front[i].timestamp_s <= side[j].timestamp_s);
     take(f ? p.push(0, front[i++]) : p.push(1, side[j++]));
   }
   take(p.flush());

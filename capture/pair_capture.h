@@ -13,10 +13,10 @@ namespace orthoface::capture {
 struct PairCaptureOptions {
   int width = 640, height = 480;  // mode asked of both cameras (choose_format)
   double fps = 30;
-  std::string fourcc;             // "" = best offered (MJPG, then YUYV)
-  double max_skew_s = 0.025;      // frames further apart than this never pair
-  double reopen_interval_s = 0.5; // retry period for a camera that vanished
-  int keep_recent = 8;            // frames / pairs kept for pairing and live view
+  std::string fourcc;              // "" = best offered (MJPG, then YUYV)
+  double max_skew_s = 0.025;       // frames further apart than this never pair
+  double reopen_interval_s = 0.5;  // retry period for a camera that vanished
+  int keep_recent = 8;             // frames / pairs kept for pairing and live view
   // Throws std::invalid_argument naming the first bad field.
   void check() const;
 };
@@ -26,7 +26,7 @@ struct PairStats {
   double fps_front = 0, fps_side = 0, fps_pairs = 0;
   std::uint64_t frames_front = 0, frames_side = 0, pairs = 0;
   std::uint64_t dropped_front = 0, dropped_side = 0;  // sequence gaps (lost before us)
-  std::uint64_t unpaired = 0;                          // frames with no partner within max_skew
+  std::uint64_t unpaired = 0;                         // frames with no partner within max_skew
   double skew_last_s = 0, skew_mean_s = 0, skew_max_s = 0;
   bool front_connected = false, side_connected = false;
   int disconnects = 0, reconnects = 0;

@@ -95,8 +95,8 @@ std::string fourcc_name(unsigned f) {
 }
 
 unsigned fourcc_code(const std::string& name) {
-  if (name.size() != 4) throw std::invalid_argument("fourcc_code: expected 4 characters, got '" +
-                                                    name + "'");
+  if (name.size() != 4)
+    throw std::invalid_argument("fourcc_code: expected 4 characters, got '" + name + "'");
   return v4l2_fourcc(name[0], name[1], name[2], name[3]);
 }
 
@@ -114,8 +114,8 @@ V4l2Camera::V4l2Camera(const std::string& path, const V4l2Controls& controls)
     ::close(fd_);
     throw std::runtime_error("camera " + path + ": not a V4L2 device (" + errno_text(e) + ")");
   }
-  const unsigned caps = (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps
-                                                                   : cap.capabilities;
+  const unsigned caps =
+      (cap.capabilities & V4L2_CAP_DEVICE_CAPS) ? cap.device_caps : cap.capabilities;
   card_ = reinterpret_cast<const char*>(cap.card);
   if (!(caps & V4L2_CAP_VIDEO_CAPTURE) || !(caps & V4L2_CAP_STREAMING)) {
     ::close(fd_);
@@ -135,8 +135,8 @@ void V4l2Camera::start(const CameraFormat& format) {
   if (streaming_) throw std::runtime_error("camera " + path_ + ": already started");
   bool offered = false;
   for (const CameraFormat& f : formats())
-    offered |= f.fourcc == format.fourcc && f.width == format.width &&
-               f.height == format.height && (format.fps <= 0 || std::abs(f.fps - format.fps) < 0.01);
+    offered |= f.fourcc == format.fourcc && f.width == format.width && f.height == format.height &&
+               (format.fps <= 0 || std::abs(f.fps - format.fps) < 0.01);
   if (!offered)
     throw std::runtime_error("camera " + path_ + ": does not offer " + format.fourcc + " " +
                              std::to_string(format.width) + "x" + std::to_string(format.height) +
@@ -183,16 +183,16 @@ void V4l2Camera::map_buffers() {
   req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
   req.memory = V4L2_MEMORY_MMAP;
   if (xioctl(fd_, VIDIOC_REQBUFS, &req) != 0 || req.count < 2)
-    throw std::runtime_error("camera " + path_ + ": cannot allocate mmap buffers: " +
-                             errno_text(errno));
+    throw std::runtime_error("camera " + path_ +
+                             ": cannot allocate mmap buffers: " + errno_text(errno));
   for (unsigned i = 0; i < req.count; ++i) {
     v4l2_buffer b{};
     b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
     b.memory = V4L2_MEMORY_MMAP;
     b.index = i;
     if (xioctl(fd_, VIDIOC_QUERYBUF, &b) != 0)
-      throw std::runtime_error("camera " + path_ + ": VIDIOC_QUERYBUF failed: " +
-                               errno_text(errno));
+      throw std::runtime_error("camera " + path_ +
+                               ": VIDIOC_QUERYBUF failed: " + errno_text(errno));
     void* p = mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, b.m.offset);
     if (p == MAP_FAILED)
       throw std::runtime_error("camera " + path_ + ": mmap failed: " + errno_text(errno));
@@ -214,8 +214,7 @@ bool V4l2Camera::set_control(unsigned id, int value) {
 
 void V4l2Camera::apply_controls() {
   set_control(V4L2_CID_FOCUS_AUTO, controls_.autofocus ? 1 : 0);
-  if (controls_.exposure_100us >= 0 &&
-      set_control(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL))
+  if (controls_.exposure_100us >= 0 && set_control(V4L2_CID_EXPOSURE_AUTO, V4L2_EXPOSURE_MANUAL))
     set_control(V4L2_CID_EXPOSURE_ABSOLUTE, controls_.exposure_100us);
   if (controls_.white_balance_k >= 0 && set_control(V4L2_CID_AUTO_WHITE_BALANCE, 0))
     set_control(V4L2_CID_WHITE_BALANCE_TEMPERATURE, controls_.white_balance_k);
@@ -256,8 +255,8 @@ FrameResult V4l2Camera::next_frame(double timeout_s) {
     Frame frame;
     const bool ok = !(b.flags & V4L2_BUF_FLAG_ERROR) && b.index < buffers_.size() &&
                     decode(buffers_[b.index], b.bytesused, frame.image);
-    const bool monotonic = (b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) ==
-                           V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
+    const bool monotonic =
+        (b.flags & V4L2_BUF_FLAG_TIMESTAMP_MASK) == V4L2_BUF_FLAG_TIMESTAMP_MONOTONIC;
     frame.timestamp_s = monotonic && (b.timestamp.tv_sec || b.timestamp.tv_usec)
                             ? b.timestamp.tv_sec + 1e-6 * b.timestamp.tv_usec
                             : monotonic_now_s();

@@ -9,9 +9,9 @@ namespace orthoface::capture {
 
 // Manual controls applied at start() where the device offers them (-1 = leave automatic).
 struct V4l2Controls {
-  int exposure_100us = -1;    // V4L2_CID_EXPOSURE_ABSOLUTE, units of 100 us
-  int white_balance_k = -1;   // V4L2_CID_WHITE_BALANCE_TEMPERATURE, kelvin
-  bool autofocus = false;     // V4L2_CID_FOCUS_AUTO (off: focus must not hunt between pairs)
+  int exposure_100us = -1;   // V4L2_CID_EXPOSURE_ABSOLUTE, units of 100 us
+  int white_balance_k = -1;  // V4L2_CID_WHITE_BALANCE_TEMPERATURE, kelvin
+  bool autofocus = false;    // V4L2_CID_FOCUS_AUTO (off: focus must not hunt between pairs)
 };
 
 // A V4L2 capture node driven by raw ioctls (linux/videodev2.h): mmap streaming with

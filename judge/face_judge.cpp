@@ -36,8 +36,10 @@ std::optional<FaceFound> FaceJudge::largest_face(const cv::Mat& image) const {
   if (image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 1))
     throw std::invalid_argument("face judge: the image must be 8-bit BGR or grey");
   cv::Mat grey;
-  if (image.channels() == 3) cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
-  else grey = image;
+  if (image.channels() == 3)
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  else
+    grey = image;
   dlib::array2d<unsigned char> img(grey.rows, grey.cols);
   for (int r = 0; r < grey.rows; ++r)
     for (int c = 0; c < grey.cols; ++c) img[r][c] = grey.at<unsigned char>(r, c);
@@ -58,9 +60,7 @@ std::optional<FaceFound> FaceJudge::largest_face(const cv::Mat& image) const {
   return out;
 }
 
-bool predictor_available(const std::string& path) {
-  return std::filesystem::is_regular_file(path);
-}
+bool predictor_available(const std::string& path) { return std::filesystem::is_regular_file(path); }
 
 double shape_nme(const Landmarks68& view, const Landmarks68& real) {
   const double iod = cv::norm(real[36] - real[45]);

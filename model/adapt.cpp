@@ -37,8 +37,8 @@ Alignment align_by_boundary(const StereoData& data) {
   if (!tip) return a;
   const auto l = silhouette_x_at(data, tip->y(), +1), r = silhouette_x_at(data, tip->y(), -1);
   if (l && r && *l > *r) a.scale.setConstant((*l - *r) / (2.0 * generic_half_width(nose.y())));
-  a.translation = Eigen::Vector3d(centre_x_at(data, tip->y()), tip->y(), tip->x()) -
-                  a.scale.cwiseProduct(nose);
+  a.translation =
+      Eigen::Vector3d(centre_x_at(data, tip->y()), tip->y(), tip->x()) - a.scale.cwiseProduct(nose);
   return a;
 }
 
@@ -51,10 +51,12 @@ void AdaptOptions::check() const {
   if (!(min_outlier_shift_mm > 0 && min_outlier_shift_mm <= max_feature_shift_mm))
     throw std::invalid_argument(
         "AdaptOptions: min_outlier_shift_mm must be in (0, max_feature_shift_mm]");
-  if (!(outlier_factor > 0)) throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
+  if (!(outlier_factor > 0))
+    throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
   if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0)
-    throw std::invalid_argument("AdaptOptions: blend_rings, blend_iterations and "
-                                "max_fold_passes must be >= 0");
+    throw std::invalid_argument(
+        "AdaptOptions: blend_rings, blend_iterations and "
+        "max_fold_passes must be >= 0");
 }
 
 double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x) {

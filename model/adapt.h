@@ -21,7 +21,7 @@ enum class AdaptMethod {
 struct AdaptOptions {
   AdaptMethod method = AdaptMethod::Interpolate;  // the default: lower relative error than
                                                   // Nnwa and the turned views' outline right
-  int k = 5;                         // NNWA neighbours; 1 <= k <= number of landmarks
+  int k = 5;                                      // NNWA neighbours; 1 <= k <= number of landmarks
   int blend_rings = 2;               // free vertices this close to a feature get smoothed
   int blend_iterations = 3;          // smoothing passes of their displacement
   int max_fold_passes = 20;          // relaxation passes to remove flipped triangles
@@ -33,8 +33,8 @@ struct AdaptOptions {
   double outlier_factor = 3;         // ... and so are those farther than this times the
   double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
-  void check() const;                // throws std::invalid_argument (k < 1, negative counts,
-                                     // outlier limits not 0 < min <= max, factor <= 0)
+  void check() const;  // throws std::invalid_argument (k < 1, negative counts,
+                       // outlier limits not 0 < min <= max, factor <= 0)
 };
 
 // Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made
@@ -72,11 +72,11 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
 double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x);
 
 struct AdaptResult {
-  TriMesh mesh;                                   // adapted base mesh (base uvs kept)
+  TriMesh mesh;                                      // adapted base mesh (base uvs kept)
   std::map<std::string, Eigen::Vector3d> landmarks;  // named features after adaptation
-  LandmarkTargets targets;                        // what the data fixed
+  LandmarkTargets targets;                           // what the data fixed
   Alignment alignment;
-  int folds_fixed = 0, folds_remaining = 0;       // flipped triangles vs the aligned base
+  int folds_fixed = 0, folds_remaining = 0;  // flipped triangles vs the aligned base
   std::vector<std::string> warnings;
 };
 
@@ -86,7 +86,8 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
 
 // Baseline (seed 002 §3.4): the base mesh moved by the similarity (rotation, uniform scale,
 // translation) that best maps its landmark vertices onto the same targets adapt() uses.
-TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data, const AdaptOptions& options = {});
+TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data,
+                       const AdaptOptions& options = {});
 
 // Number of triangles whose normal turned by more than 90° from `reference` (same topology).
 int count_folds(const TriMesh& mesh, const TriMesh& reference);

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <stdexcept>
 #include <queue>
 #include <set>
+#include <stdexcept>
 #include <tuple>
 
 #include <Eigen/Geometry>
@@ -101,8 +101,8 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
       continue;
     }
     const Eigen::Vector3d shift = it->second.head_mm - aligned[v];
-    observed.push_back({name, v, &it->second,
-                        it->second.has_depth ? shift.norm() : shift.head<2>().norm()});
+    observed.push_back(
+        {name, v, &it->second, it->second.has_depth ? shift.norm() : shift.head<2>().norm()});
   }
   const double limit = outlier_limit_mm(observed, options);
   for (const auto& [name, v, point, moved] : observed) {
@@ -181,8 +181,7 @@ std::vector<std::string> outlier_features(const BaseMesh& base, const StereoData
                                       options.ignored_features.end());
   std::vector<std::string> out;
   for (const auto& [name, v] : base.features)
-    if (data.features.count(name) && !ignored.count(name) && !used.count(name))
-      out.push_back(name);
+    if (data.features.count(name) && !ignored.count(name) && !used.count(name)) out.push_back(name);
   return out;
 }
 

@@ -9,12 +9,12 @@ namespace orthoface::model {
 
 // The clean mesh the analyses (features, similarity) run on, with the way back to the input.
 struct AnalysisMesh {
-  TriMesh mesh;                     // vertices + triangles only (no uvs / colours / texture)
-  std::vector<int> original_index;  // per analysis vertex: one input vertex it came from
-  std::vector<int> analysis_index;  // per input vertex: its analysis vertex, or -1 if dropped
-  int welded = 0;                   // input vertices merged into another (UV seams)
-  int dropped_triangles = 0;        // degenerate (zero area / repeated vertex after welding)
-  int components = 0;               // connected components of the input after welding
+  TriMesh mesh;                       // vertices + triangles only (no uvs / colours / texture)
+  std::vector<int> original_index;    // per analysis vertex: one input vertex it came from
+  std::vector<int> analysis_index;    // per input vertex: its analysis vertex, or -1 if dropped
+  int welded = 0;                     // input vertices merged into another (UV seams)
+  int dropped_triangles = 0;          // degenerate (zero area / repeated vertex after welding)
+  int components = 0;                 // connected components of the input after welding
   std::vector<std::string> warnings;  // one line each: what was repaired or left out
 };
 

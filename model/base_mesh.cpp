@@ -13,8 +13,9 @@ namespace {
 // Landmarks whose heights become slices (seed 004 §5: brow, eyes, nose tip, subnasale, mouth,
 // chin ...). Brows, eyes and mouth corners stand for their row.
 constexpr const char* kCharacteristic[] = {
-    "forehead_top", "brow_left_center", "nose_bridge", "eye_left_center", "nose_tip", "alar_left",
-    "subnasale",    "lip_upper",        "mouth_left",  "lip_lower",       "chin",     "chin_bottom"};
+    "forehead_top", "brow_left_center", "nose_bridge", "eye_left_center",
+    "nose_tip",     "alar_left",        "subnasale",   "lip_upper",
+    "mouth_left",   "lip_lower",        "chin",        "chin_bottom"};
 
 constexpr double kMaxExtrapolationMm = 40;
 
@@ -41,8 +42,9 @@ std::vector<std::pair<std::string, double>> slice_plan(const BaseMeshOptions& o)
 
 void BaseMeshOptions::check() const {
   if (vertices_per_slice < 9 || vertices_per_slice % 2 == 0 || vertices_per_slice > 401)
-    throw std::invalid_argument("BaseMeshOptions: vertices_per_slice must be odd in [9, 401], got " +
-                                std::to_string(vertices_per_slice));
+    throw std::invalid_argument(
+        "BaseMeshOptions: vertices_per_slice must be odd in [9, 401], got " +
+        std::to_string(vertices_per_slice));
   if (!(max_slice_gap_mm >= 1.0 && max_slice_gap_mm <= 200.0))
     throw std::invalid_argument("BaseMeshOptions: max_slice_gap_mm must be in [1, 200], got " +
                                 std::to_string(max_slice_gap_mm));
@@ -76,7 +78,8 @@ Eigen::Vector2d generic_contour(double y, double angle) {
   // Bilinear in (row, ray) over the sampled table; the head is mirror symmetric in x.
   const double row_mm = (kGenericTop - kGenericBottom) / (kGenericRows - 1);
   const double row = (kGenericTop - std::clamp(y, kGenericBottom - kMaxExtrapolationMm,
-                                               kGenericTop + kMaxExtrapolationMm)) / row_mm;
+                                               kGenericTop + kMaxExtrapolationMm)) /
+                     row_mm;
   const double ray = std::clamp(std::abs(angle) / (M_PI / 2), 0.0, 1.0) * (kGenericHalfRays - 1);
   Eigen::Vector2d p;
   if (row < 0 || row > kGenericRows - 1) {  // linear continuation of the end row's slope
@@ -115,7 +118,8 @@ BaseMesh base_mesh(const BaseMeshOptions& options) {
       const Eigen::Vector2d xz = generic_contour(y, phi);
       ids.push_back(static_cast<int>(b.mesh.vertices.size()));
       b.mesh.vertices.emplace_back(i == mid ? 0.0 : xz.x(), y, xz.y());
-      b.mesh.uvs.emplace_back(static_cast<double>(i) / (n - 1), (y - y_bottom) / (y_top - y_bottom));
+      b.mesh.uvs.emplace_back(static_cast<double>(i) / (n - 1),
+                              (y - y_bottom) / (y_top - y_bottom));
       const bool boundary = i == 0 || i == n - 1 || i == mid;
       b.groups.push_back(boundary ? VertexGroup::Boundary : VertexGroup::NonFeature);
       b.slice_of_vertex.push_back(static_cast<int>(s));

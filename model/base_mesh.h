@@ -24,21 +24,21 @@ struct BaseMeshOptions {
   // mm short (new views would show background there); 0..40.
   double margin_above_mm = 15;
   double margin_below_mm = 10;
-  void check() const;           // throws std::invalid_argument
+  void check() const;  // throws std::invalid_argument
 };
 
 // The generic face, front half of an average adult head in the head frame (mm, DESIGN.md),
 // sliced horizontally at characteristic heights (seed 004 §5). Built from the project's own
 // average head (no third-party data). Ear landmarks are not part of it.
 struct BaseMesh {
-  TriMesh mesh;                          // with uvs (u = contour angle, v = height)
-  std::vector<VertexGroup> groups;       // one per vertex
-  std::vector<int> slice_of_vertex;      // slice index per vertex
-  std::vector<std::vector<int>> slices;  // per slice, top to bottom: vertex ids from the
-                                         // subject's right extreme (-x) to the left (+x)
-  std::vector<double> slice_heights;     // y (mm) of each slice
-  std::vector<std::string> slice_names;  // "" or the landmark whose height it stands for
-  std::map<std::string, int> features;   // landmark name -> vertex id
+  TriMesh mesh;                              // with uvs (u = contour angle, v = height)
+  std::vector<VertexGroup> groups;           // one per vertex
+  std::vector<int> slice_of_vertex;          // slice index per vertex
+  std::vector<std::vector<int>> slices;      // per slice, top to bottom: vertex ids from the
+                                             // subject's right extreme (-x) to the left (+x)
+  std::vector<double> slice_heights;         // y (mm) of each slice
+  std::vector<std::string> slice_names;      // "" or the landmark whose height it stands for
+  std::map<std::string, int> features;       // landmark name -> vertex id
   std::vector<std::vector<int>> neighbours;  // vertex adjacency (one-ring), per vertex
   int centre(int slice) const { return slices[slice][slices[slice].size() / 2]; }
 };

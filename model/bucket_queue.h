@@ -28,8 +28,8 @@ class BucketQueue {
   BucketQueue(double width, double span) {
     if (!(width > 0.0 && width < kInf) || !(span >= 0.0 && span < kInf) ||
         span / width > double(1 << 20))
-      throw std::invalid_argument("BucketQueue: bad width " + std::to_string(width) +
-                                  " or span " + std::to_string(span));
+      throw std::invalid_argument("BucketQueue: bad width " + std::to_string(width) + " or span " +
+                                  std::to_string(span));
     inv_width_ = 1.0 / width;
     std::size_t count = 1;  // a power of two, so the circular index is a mask
     while (count < static_cast<std::size_t>(span / width) + 2) count *= 2;
@@ -42,7 +42,8 @@ class BucketQueue {
   // infinite or NaN key or an unsized queue.
   void push(double key, Value value) {
     if (!(key >= 0.0 && key < kInf) || buckets_.empty())
-      throw std::invalid_argument("BucketQueue::push: key must be finite and >= 0 on a sized queue");
+      throw std::invalid_argument(
+          "BucketQueue::push: key must be finite and >= 0 on a sized queue");
     const float k = static_cast<float>(key);  // the bucket follows the stored key
     const double b = double(k) * inv_width_;  // >= 0: the cast floors
     const long long index = b < double(current_) ? current_ : static_cast<long long>(b);

@@ -176,11 +176,10 @@ double ring_average(const std::vector<std::vector<int>>& neighbors,
                     const std::vector<double>& values, int vertex, double w0, double w1,
                     double w2) {
   if (neighbors.size() != values.size())
-    throw std::invalid_argument("ring_average: " + std::to_string(values.size()) +
-                                " values for " + std::to_string(neighbors.size()) + " vertices");
+    throw std::invalid_argument("ring_average: " + std::to_string(values.size()) + " values for " +
+                                std::to_string(neighbors.size()) + " vertices");
   if (vertex < 0 || vertex >= static_cast<int>(values.size()))
-    throw std::invalid_argument("ring_average: vertex " + std::to_string(vertex) +
-                                " out of range");
+    throw std::invalid_argument("ring_average: vertex " + std::to_string(vertex) + " out of range");
   if (w0 < 0 || w1 < 0 || w2 < 0 || w0 + w1 + w2 <= 0)
     throw std::invalid_argument("ring_average: weights must be >= 0 and not all 0");
   // seed 003 eq. 15: weighted mean over the vertex, its 1-ring and its 2-ring.

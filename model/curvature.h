@@ -28,7 +28,7 @@ double gaussian_curvature(double k1, double k2);  // k1 k2
 // 1/2 - atan((k1 + k2) / (k1 - k2)) / pi in [0, 1]: 0 = convex cap, 1/2 = saddle or plane
 // (k1 = k2 = 0), 1 = concave cup. Throws std::invalid_argument if k1 < k2.
 double shape_index(double k1, double k2);
-double curvedness(double k1, double k2);          // sqrt((k1^2 + k2^2) / 2)
+double curvedness(double k1, double k2);  // sqrt((k1^2 + k2^2) / 2)
 
 // Weighted mean of `values` at `vertex` over itself and its 1- and 2-ring (vertices at edge
 // distance exactly 1 and 2), weights w0 / w1 / w2 (seed 003 eq. 15-16: 100 / 10 / 1).

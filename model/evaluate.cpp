@@ -130,9 +130,12 @@ ErrorReport reconstruction_error(const TriMesh& rec, const TriMesh& truth, const
   check_mesh(rec, "reconstruction_error: reconstructed mesh");
   check_mesh(truth, "reconstruction_error: true mesh");
   const SurfaceGrid grid(truth);
-  static const double kBary[7][3] = {{1. / 3, 1. / 3, 1. / 3}, {2. / 3, 1. / 6, 1. / 6},
-                                     {1. / 6, 2. / 3, 1. / 6}, {1. / 6, 1. / 6, 2. / 3},
-                                     {0.5, 0.5, 0},            {0, 0.5, 0.5},
+  static const double kBary[7][3] = {{1. / 3, 1. / 3, 1. / 3},
+                                     {2. / 3, 1. / 6, 1. / 6},
+                                     {1. / 6, 2. / 3, 1. / 6},
+                                     {1. / 6, 1. / 6, 2. / 3},
+                                     {0.5, 0.5, 0},
+                                     {0, 0.5, 0.5},
                                      {0.5, 0, 0.5}};
   ErrorReport e;
   double area_sum = 0, sum = 0, sum2 = 0;
@@ -150,7 +153,8 @@ ErrorReport reconstruction_error(const TriMesh& rec, const TriMesh& truth, const
     area_sum += area, sum += area * tri, sum2 += area * tri2;
   }
   if (e.samples == 0 || area_sum <= 0)
-    throw std::invalid_argument("reconstruction_error: no reconstructed triangle in the face region");
+    throw std::invalid_argument(
+        "reconstruction_error: no reconstructed triangle in the face region");
   e.mean_mm = sum / area_sum;
   e.rms_mm = std::sqrt(sum2 / area_sum);
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;

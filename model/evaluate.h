@@ -32,7 +32,7 @@ std::vector<double> signed_distances(const std::vector<Eigen::Vector3d>& points,
                                      const TriMesh& surface);
 
 struct ErrorReport {
-  double mean_mm = 0.0;      // area-weighted mean |distance| of the reconstructed face surface
+  double mean_mm = 0.0;  // area-weighted mean |distance| of the reconstructed face surface
   double rms_mm = 0.0;
   double max_mm = 0.0;
   double diagonal_mm = 0.0;  // bounding-box diagonal of the true surface inside the region

@@ -24,7 +24,8 @@ std::vector<ProfileSample> plane_profile(const TriMesh& mesh, const LocalFrame& 
       if ((ha > 0.0) == (hb > 0.0) || ha == hb) continue;
       const double w = ha / (ha - hb);
       const Eigen::Vector3d q = (1.0 - w) * mesh.vertices[a] + w * mesh.vertices[b] - frame.origin;
-      const ProfileSample p{w < 0.5 ? a : b, q.dot(frame.up), q.dot(frame.forward), q + frame.origin};
+      const ProfileSample p{w < 0.5 ? a : b, q.dot(frame.up), q.dot(frame.forward),
+                            q + frame.origin};
       if (p.f <= 0.0) continue;
       const long bin = long(std::floor(p.s / band));
       auto it = bins.find(bin);
@@ -108,7 +109,8 @@ void refine_subnasale(const TriMesh& mesh, const LocalFrame& fr,
   }
   if (!sub || !lip || !r.nose_tip) return;
   const Eigen::Vector3d t3 = mesh.vertices[*r.nose_tip] - fr.origin, l3 = lip->position - fr.origin;
-  const Eigen::Vector2d tip(t3.dot(fr.up), t3.dot(fr.forward)), upper(l3.dot(fr.up), l3.dot(fr.forward));
+  const Eigen::Vector2d tip(t3.dot(fr.up), t3.dot(fr.forward)),
+      upper(l3.dot(fr.up), l3.dot(fr.forward));
   std::vector<int> between;  // profile samples from the tip down to the lip
   for (size_t i = 0; i < prof.size(); ++i)
     if (prof[i].s < tip.x() && prof[i].s > upper.x()) between.push_back(int(i));
@@ -118,8 +120,10 @@ void refine_subnasale(const TriMesh& mesh, const LocalFrame& fr,
   for (size_t k = 0; k + 1 < between.size() && !best; ++k) {
     const ProfileSample &a = prof[between[k]], &b = prof[between[k + 1]];
     const double slope = std::abs((a.f - b.f) / (a.s - b.s));
-    if (slope > 2) columella = true;
-    else if (columella && slope < 1) best = between[k];
+    if (slope > 2)
+      columella = true;
+    else if (columella && slope < 1)
+      best = between[k];
   }
   if (!best) {
     const Eigen::Vector2d chord = upper - tip;
@@ -146,9 +150,16 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
   const auto peaks = profile_extrema(prof, true, kMidlineProminence * D);
   const auto troughs = profile_extrema(prof, false, kMidlineProminence * D);
   // Downward from the nose tip: subnasale, upper lip, stomion, lower lip, sulcus, chin boss.
-  struct Step { const char* name; bool peak; const char* helper; };
-  const Step steps[] = {{"9.15", false, ""}, {"8.1", true, ""}, {"2.2", false, ""},
-                        {"8.2", true, ""}, {"sulcus", false, "mentolabial sulcus (helper)"},
+  struct Step {
+    const char* name;
+    bool peak;
+    const char* helper;
+  };
+  const Step steps[] = {{"9.15", false, ""},
+                        {"8.1", true, ""},
+                        {"2.2", false, ""},
+                        {"8.2", true, ""},
+                        {"sulcus", false, "mentolabial sulcus (helper)"},
                         {"2.10", true, ""}};
   double s = s_nose;
   bool chain = true;  // every step found
@@ -171,23 +182,31 @@ void midline_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOpti
     if (prof[i].s < s && prof[i].s > s - 0.3 * D &&
         (!bottom || prof[i].f - prof[i].s > prof[*bottom].f - prof[*bottom].s))
       bottom = int(i);
-  if (bottom) add_point(mesh, r, "2.1", prof[*bottom]);
-  else if (chain) r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
+  if (bottom)
+    add_point(mesh, r, "2.1", prof[*bottom]);
+  else if (chain)
+    r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
   const auto nasion = next_extremum(prof, troughs, s_nose, false, 0.4 * D);
-  if (nasion) add_point(mesh, r, "nasion", prof[*nasion], "deepest point between the eyes (helper)");
-  else r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
+  if (nasion)
+    add_point(mesh, r, "nasion", prof[*nasion], "deepest point between the eyes (helper)");
+  else
+    r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
 }
 
 // The eye's centre (MPEG-4 3.5 / 3.6, the pupil): the side plane only cuts the eye socket, so
 // the point is refined over the surface around it, as the vertex standing furthest forward of
 // the quadratic surface fitted to the ring 0.05-0.09 D around it (the eyeball's bulge inside its
 // socket, open or closed lids; the quadratic takes out the face's own curvature). Candidates lie
-// on the `side`, 0.13-0.3 D from the mid-plane (pupils are about 0.2 D out), with heights in (s_lo, s_hi) and depth above
-// f_min. Returns -1 when no ring holds 12 vertices (a coarse mesh) or nothing stands out.
+// on the `side`, 0.13-0.3 D from the mid-plane (pupils are about 0.2 D out), with heights in (s_lo,
+// s_hi) and depth above f_min. Returns -1 when no ring holds 12 vertices (a coarse mesh) or nothing
+// stands out.
 int eye_bulge(const TriMesh& mesh, const LocalFrame& fr, double side, double s_lo, double s_hi,
               double f_min) {
   const double D = fr.ear_distance, r_in = 0.05 * D, r_out = 0.09 * D;
-  struct Local { int v; double l, s, f; };
+  struct Local {
+    int v;
+    double l, s, f;
+  };
   std::vector<Local> near;  // the window grown by the ring's radius
   for (size_t v = 0; v < mesh.vertices.size(); ++v) {
     const Eigen::Vector3d q = mesh.vertices[v] - fr.origin;
@@ -265,7 +284,8 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
   } else if (e) {
     add_point(mesh, r, eye, prof[*e]);
   } else {
-    r.missing.push_back(eye + ", " + cheek + ": no eye bulge or trough below the brow on the side plane");
+    r.missing.push_back(eye + ", " + cheek +
+                        ": no eye bulge or trough below the brow on the side plane");
     return;
   }
   // The cheek: the side profile's most forward point below the eye's socket.
@@ -275,8 +295,10 @@ void side_points(const TriMesh& mesh, const LocalFrame& fr, const FeatureOptions
   for (size_t i = 0; i < prof.size(); ++i)
     if (prof[i].s < s_eye && prof[i].s > s_nose - 0.2 * D && (!c || prof[i].f > prof[*c].f))
       c = int(i);
-  if (c && prof[*c].f - f_socket > 0.005 * D) add_point(mesh, r, cheek, prof[*c]);
-  else r.missing.push_back(cheek + ": no peak below the eye on the side plane");
+  if (c && prof[*c].f - f_socket > 0.005 * D)
+    add_point(mesh, r, cheek, prof[*c]);
+  else
+    r.missing.push_back(cheek + ": no peak below the eye on the side plane");
 }
 
 }  // namespace
@@ -297,10 +319,14 @@ void profile_points(const TriMesh& mesh, const LocalFrame& frame, const FeatureO
     if (s > top_s) top_s = s, top = int(v);
     if (s > 0.0 && s < 0.6 * D && f < back_f) back_f = f, back = int(v);
   }
-  if (top >= 0 && top_s > 0.3 * D) add_point(mesh, report, "11.4", top);
-  else report.missing.push_back("11.4: no skull above the ears (face-only mesh?)");
-  if (back >= 0 && back_f < -0.3 * D) add_point(mesh, report, "11.6", back);
-  else report.missing.push_back("11.6: no back of the head (face-only mesh?)");
+  if (top >= 0 && top_s > 0.3 * D)
+    add_point(mesh, report, "11.4", top);
+  else
+    report.missing.push_back("11.4: no skull above the ears (face-only mesh?)");
+  if (back >= 0 && back_f < -0.3 * D)
+    add_point(mesh, report, "11.6", back);
+  else
+    report.missing.push_back("11.6: no back of the head (face-only mesh?)");
 }
 
 }  // namespace orthoface::model::detail

@@ -18,7 +18,8 @@ void FeatureOptions::check() const {
     throw std::invalid_argument("FeatureOptions: " + field + " out of range: " + std::to_string(v));
   };
   if (!(neighbourhood > 0.0 && neighbourhood < 0.5)) bad("neighbourhood", neighbourhood);
-  if (!(ratio_threshold > 1.0 && ratio_threshold < ratio_cap)) bad("ratio_threshold", ratio_threshold);
+  if (!(ratio_threshold > 1.0 && ratio_threshold < ratio_cap))
+    bad("ratio_threshold", ratio_threshold);
   if (!(ratio_cap > 1.0 && ratio_cap <= 20.0)) bad("ratio_cap", ratio_cap);
   if (!(dense_area > 0.0 && dense_area < 0.5)) bad("dense_area", dense_area);
   if (max_sources < 10) bad("max_sources", max_sources);
@@ -66,9 +67,8 @@ std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureO
   std::vector<int> all(p.size());
   std::iota(all.begin(), all.end(), 0);
   const detail::PointGrid grid(p, r, all);
-  const std::vector<int> sources = int(p.size()) <= options.max_sources
-                                       ? all
-                                       : farthest_point_sample(p, options.max_sources);
+  const std::vector<int> sources =
+      int(p.size()) <= options.max_sources ? all : farthest_point_sample(p, options.max_sources);
   GeodesicOptions go;
   go.max_distance = options.ratio_cap * r;
   // Sources split over the hardware threads, each with its own solver and ratio array; the
@@ -81,8 +81,10 @@ std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureO
   std::vector<std::vector<double>> ratios(detail::row_threads(n_sources));
   detail::parallel_rows(
       n_sources,
-      [&](int) { return Worker{GeodesicSolver(mesh), std::vector<double>(p.size(), -1.0),
-                               std::vector<double>(p.size(), 1.0)}; },
+      [&](int) {
+        return Worker{GeodesicSolver(mesh), std::vector<double>(p.size(), -1.0),
+                      std::vector<double>(p.size(), 1.0)};
+      },
       [&](Worker& w, int k) {
         const int s = sources[k];
         const auto reached = w.solver.reached({s}, go);

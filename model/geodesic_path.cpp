@@ -63,8 +63,7 @@ struct Tracer {
 
 }  // namespace
 
-GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& distances,
-                           int target) {
+GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& distances, int target) {
   check_mesh(mesh, "geodesic_path");
   if (distances.size() != mesh.vertices.size())
     throw std::invalid_argument("geodesic_path: " + std::to_string(distances.size()) +
@@ -95,8 +94,8 @@ GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& dista
         const Vec g = tr.gradient(f);
         int a = -1, b = -1;
         double wf = 0.0;
-        if (g.norm() > best && tr.exit_point(f, p, -g, vertex, vertex, a, b, wf) &&
-            a != vertex && b != vertex)
+        if (g.norm() > best && tr.exit_point(f, p, -g, vertex, vertex, a, b, wf) && a != vertex &&
+            b != vertex)
           best = g.norm(), next_f = f, na = a, nb = b, w = wf;
       }
     } else {
@@ -115,8 +114,7 @@ GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& dista
     if (next_f < 0 || !(dq < path.distances.back())) {
       // No descending face: step along an edge to the lowest neighbouring vertex.
       int low = -1;
-      const std::vector<int> cand =
-          vertex >= 0 ? std::vector<int>{} : std::vector<int>{ea, eb};
+      const std::vector<int> cand = vertex >= 0 ? std::vector<int>{} : std::vector<int>{ea, eb};
       std::vector<int> around = cand;
       if (vertex >= 0)
         for (int f : tr.vertex_faces[vertex])

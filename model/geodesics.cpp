@@ -133,13 +133,13 @@ void GeodesicSolver::march(const std::vector<std::pair<int, double>>& seeds, dou
       const Wedge& w = wedges_[k];
       const bool a_done = done_[w.a], b_done = done_[w.b];
       if (!a_done) {
-        const double d = b_done ? planar_update(dist_[w.b], dv, w.vb, w.ab, w.va, w.cx_a, w.cy_a)
-                                : dv + w.va;
+        const double d =
+            b_done ? planar_update(dist_[w.b], dv, w.vb, w.ab, w.va, w.cx_a, w.cy_a) : dv + w.va;
         if (d < dist_[w.a]) improve(w.a, d);
       }
       if (!b_done) {
-        const double d = a_done ? planar_update(dv, dist_[w.a], w.va, w.vb, w.ab, w.cx_b, w.cy_b)
-                                : dv + w.vb;
+        const double d =
+            a_done ? planar_update(dv, dist_[w.a], w.va, w.vb, w.ab, w.cx_b, w.cy_b) : dv + w.vb;
         if (d < dist_[w.b]) improve(w.b, d);
       }
     }
@@ -295,9 +295,8 @@ SweepOrders sweep_orders(const TriMesh& mesh) {
     auto& order = o.by_axis[axis];
     order.resize(n);
     for (int v = 0; v < n; ++v) order[v] = v;
-    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-      return mesh.vertices[a][axis] < mesh.vertices[b][axis];
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int a, int b) { return mesh.vertices[a][axis] < mesh.vertices[b][axis]; });
   }
   return o;
 }

@@ -63,9 +63,9 @@ class GeodesicSolver {
   void march(const std::vector<std::pair<int, double>>& seeds, double max_distance);
   void reset();
 
-  std::vector<int> start_;       // vertex -> its wedges [start_[v], start_[v + 1])
+  std::vector<int> start_;  // vertex -> its wedges [start_[v], start_[v + 1])
   std::vector<Wedge> wedges_;
-  std::vector<double> dist_;          // scratch, +inf between runs
+  std::vector<double> dist_;  // scratch, +inf between runs
   std::vector<char> done_;
   std::vector<int> touched_, order_;  // scratch, reused between runs
   BucketQueue<int> queue_;
@@ -113,7 +113,6 @@ struct GeodesicPath {
 // steepest descent of the piecewise-linear distance field across triangles (seed 003 §3(4)
 // backtracking). Throws std::invalid_argument on a malformed mesh, a size mismatch, or a target
 // out of range or unreached. Never loops: at most 4 x (vertices + triangles) steps.
-GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& distances,
-                           int target);
+GeodesicPath geodesic_path(const TriMesh& mesh, const std::vector<double>& distances, int target);
 
 }  // namespace orthoface::model

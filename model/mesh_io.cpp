@@ -41,7 +41,8 @@ std::string read_bytes(const std::string& path) {
 cv::Mat load_texture(const std::string& image_path, const std::string& mesh_path) {
   std::filesystem::path p(image_path);
   if (p.is_relative()) p = std::filesystem::path(mesh_path).parent_path() / p;
-  if (!std::filesystem::exists(p)) fail(mesh_path, "texture image " + p.string() + " does not exist");
+  if (!std::filesystem::exists(p))
+    fail(mesh_path, "texture image " + p.string() + " does not exist");
   cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
   if (img.empty()) fail(mesh_path, "texture image " + p.string() + " cannot be decoded");
   return img;
@@ -49,16 +50,20 @@ cv::Mat load_texture(const std::string& image_path, const std::string& mesh_path
 
 void validate_read(const TriMesh& mesh, const std::string& path) {
   if (mesh.vertices.empty()) fail(path, "no vertices");
-  if (mesh.triangles.empty()) fail(path, "no faces (" + std::to_string(mesh.vertices.size()) + " vertices only)");
+  if (mesh.triangles.empty())
+    fail(path, "no faces (" + std::to_string(mesh.vertices.size()) + " vertices only)");
   try {
     check_mesh(mesh, path);
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(e.what());
   }
   for (size_t i = 0; i < mesh.uvs.size(); ++i)
-    if (!mesh.uvs[i].allFinite()) fail(path, "texture coordinate " + std::to_string(i) + " is not finite");
+    if (!mesh.uvs[i].allFinite())
+      fail(path, "texture coordinate " + std::to_string(i) + " is not finite");
   for (const auto& t : mesh.triangles)
-    if ((mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm() > 0)
+    if ((mesh.vertices[t[1]] - mesh.vertices[t[0]])
+            .cross(mesh.vertices[t[2]] - mesh.vertices[t[0]])
+            .norm() > 0)
       return;
   fail(path, "all " + std::to_string(mesh.triangles.size()) + " triangles have zero area");
 }
@@ -85,7 +90,8 @@ bool parse_double(const std::string& s, double& out) {
 std::string at_line(size_t line) { return "line " + std::to_string(line) + ": "; }
 
 // OBJ index (1-based, negative = relative to the end) to 0-based; throws when out of range.
-int obj_index(const std::string& tok, int count, const std::string& path, size_t line, const char* what) {
+int obj_index(const std::string& tok, int count, const std::string& path, size_t line,
+              const char* what) {
   char* end = nullptr;
   const long v = std::strtol(tok.c_str(), &end, 10);
   if (tok.empty() || end != tok.c_str() + tok.size() || v == 0)
@@ -119,12 +125,16 @@ using Corner = std::pair<int, int>;
 
 // Output vertices keep the OBJ position order; a position used with a second texture
 // coordinate (a UV seam) is duplicated at the end.
-TriMesh assemble_obj(const std::vector<Eigen::Vector3d>& pos, const std::vector<Eigen::Vector3d>& col,
-                     const std::vector<Eigen::Vector2d>& tex, const std::vector<std::vector<Corner>>& faces) {
+TriMesh assemble_obj(const std::vector<Eigen::Vector3d>& pos,
+                     const std::vector<Eigen::Vector3d>& col,
+                     const std::vector<Eigen::Vector2d>& tex,
+                     const std::vector<std::vector<Corner>>& faces) {
   TriMesh m;
   m.vertices = pos;
   m.uvs.assign(pos.size(), Eigen::Vector2d(0, 0));
-  m.colors = col.size() == pos.size() ? col : std::vector<Eigen::Vector3d>(pos.size(), Eigen::Vector3d(1, 1, 1));
+  m.colors = col.size() == pos.size()
+                 ? col
+                 : std::vector<Eigen::Vector3d>(pos.size(), Eigen::Vector3d(1, 1, 1));
   std::vector<int> first_uv(pos.size(), -2);
   std::map<Corner, int> extra;
   for (const auto& f : faces) {
@@ -146,7 +156,8 @@ TriMesh assemble_obj(const std::vector<Eigen::Vector3d>& pos, const std::vector<
       }
       poly.push_back(it->second);
     }
-    for (size_t k = 1; k + 1 < poly.size(); ++k) m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    for (size_t k = 1; k + 1 < poly.size(); ++k)
+      m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
   }
   if (col.size() != pos.size()) m.colors.clear();
   return m;
@@ -172,9 +183,11 @@ TriMesh read_obj(const std::string& path, const MeshReadOptions& options) {
     if (key == "v" || key == "vt") {
       const size_t need = key == "v" ? 3 : 2;
       double val[6] = {0, 0, 0, 0, 0, 0};
-      if (tok.size() < need) fail(path, at_line(line_no) + key + " needs " + std::to_string(need) + " numbers");
+      if (tok.size() < need)
+        fail(path, at_line(line_no) + key + " needs " + std::to_string(need) + " numbers");
       for (size_t k = 0; k < std::min<size_t>(tok.size(), 6); ++k)
-        if (!parse_double(tok[k], val[k])) fail(path, at_line(line_no) + "'" + tok[k] + "' is not a number");
+        if (!parse_double(tok[k], val[k]))
+          fail(path, at_line(line_no) + "'" + tok[k] + "' is not a number");
       for (size_t k = 0; k < need; ++k)
         if (!std::isfinite(val[k])) fail(path, at_line(line_no) + key + " has a non-finite value");
       if (key == "vt") {
@@ -188,19 +201,23 @@ TriMesh read_obj(const std::string& path, const MeshReadOptions& options) {
       faces.emplace_back();
       for (const auto& t : tok) {
         const size_t s1 = t.find('/');
-        const int vi = obj_index(t.substr(0, s1), static_cast<int>(pos.size()), path, line_no, "vertex");
+        const int vi =
+            obj_index(t.substr(0, s1), static_cast<int>(pos.size()), path, line_no, "vertex");
         int ti = -1;
         if (s1 != std::string::npos) {
           const size_t s2 = t.find('/', s1 + 1);
-          const std::string ts = t.substr(s1 + 1, s2 == std::string::npos ? std::string::npos : s2 - s1 - 1);
-          if (!ts.empty()) ti = obj_index(ts, static_cast<int>(tex.size()), path, line_no, "texture");
+          const std::string ts =
+              t.substr(s1 + 1, s2 == std::string::npos ? std::string::npos : s2 - s1 - 1);
+          if (!ts.empty())
+            ti = obj_index(ts, static_cast<int>(tex.size()), path, line_no, "texture");
         }
         any_uv |= ti >= 0;
         faces.back().push_back({vi, ti});
       }
     } else if (key == "mtllib" && !tok.empty()) {
       mtllib = line.substr(line.find(tok[0]));  // names may contain spaces
-      while (!mtllib.empty() && std::isspace(static_cast<unsigned char>(mtllib.back()))) mtllib.pop_back();
+      while (!mtllib.empty() && std::isspace(static_cast<unsigned char>(mtllib.back())))
+        mtllib.pop_back();
     }
   }
   if (pos.empty() && faces.empty()) fail(path, "empty mesh (no vertices, no faces)");
@@ -226,7 +243,8 @@ namespace {
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 

@@ -53,7 +53,8 @@ std::uint32_t le32(const std::string& b, size_t at) {
 std::string uri_bytes(const std::string& uri, const std::string& path) {
   if (uri.rfind("data:", 0) == 0) {
     const size_t comma = uri.find(',');
-    if (comma == std::string::npos || uri.find(";base64") > comma) fail(path, "unsupported data URI");
+    if (comma == std::string::npos || uri.find(";base64") > comma)
+      fail(path, "unsupported data URI");
     return base64_decode(uri.substr(comma + 1), path);
   }
   return read_bytes((std::filesystem::path(path).parent_path() / uri).string());
@@ -66,10 +67,13 @@ class Gltf {
     std::string bin;
     if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
       if (bytes.size() < 20) fail(path, "truncated GLB header");
-      if (le32(bytes, 4) != 2) fail(path, "GLB version " + std::to_string(le32(bytes, 4)) + " (only 2 is supported)");
-      if (le32(bytes, 8) > bytes.size()) fail(path, "truncated GLB (header says " + std::to_string(le32(bytes, 8)) + " bytes)");
+      if (le32(bytes, 4) != 2)
+        fail(path, "GLB version " + std::to_string(le32(bytes, 4)) + " (only 2 is supported)");
+      if (le32(bytes, 8) > bytes.size())
+        fail(path, "truncated GLB (header says " + std::to_string(le32(bytes, 8)) + " bytes)");
       const std::uint32_t jlen = le32(bytes, 12);
-      if (le32(bytes, 16) != 0x4E4F534Au || 20ull + jlen > bytes.size()) fail(path, "GLB has no valid JSON chunk");
+      if (le32(bytes, 16) != 0x4E4F534Au || 20ull + jlen > bytes.size())
+        fail(path, "GLB has no valid JSON chunk");
       parse(bytes.substr(20, jlen));
       const size_t b = 20 + ((jlen + 3) & ~3u);
       if (b + 8 <= bytes.size() && le32(bytes, b + 4) == 0x004E4942u) {
@@ -83,13 +87,15 @@ class Gltf {
     for (const auto& b : j_.value("buffers", json::array())) {
       buffers_.push_back(b.contains("uri") ? uri_bytes(b["uri"].get<std::string>(), path) : bin);
       if (buffers_.back().size() < b.value("byteLength", size_t{0}))
-        fail(path, "buffer " + std::to_string(buffers_.size() - 1) + " is shorter than its byteLength");
+        fail(path,
+             "buffer " + std::to_string(buffers_.size() - 1) + " is shorter than its byteLength");
     }
   }
 
   TriMesh mesh() {
     TriMesh m;
-    std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int n, const Eigen::Matrix4d& parent) {
+    std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int n,
+                                                                 const Eigen::Matrix4d& parent) {
       const json& node = at("nodes", n);
       const Eigen::Matrix4d world = parent * local(node);
       if (node.contains("mesh")) add_mesh(m, node["mesh"].get<int>(), world);
@@ -105,8 +111,10 @@ class Gltf {
     if (!any_uv_) m.uvs.clear();
     if (!any_color_) m.colors.clear();
     if (options_.load_texture && !m.uvs.empty()) {
-      if (!options_.texture_path.empty()) m.texture = load_texture(options_.texture_path, path_);
-      else if (texture_image_ >= 0) m.texture = image(texture_image_);
+      if (!options_.texture_path.empty())
+        m.texture = load_texture(options_.texture_path, path_);
+      else if (texture_image_ >= 0)
+        m.texture = image(texture_image_);
     }
     return m;
   }
@@ -122,8 +130,10 @@ class Gltf {
   }
 
   const json& at(const char* array, int index) const {
-    if (!j_.contains(array) || !j_[array].is_array() || index < 0 || index >= static_cast<int>(j_[array].size()))
-      fail(path_, std::string("reference to ") + array + "[" + std::to_string(index) + "] which does not exist");
+    if (!j_.contains(array) || !j_[array].is_array() || index < 0 ||
+        index >= static_cast<int>(j_[array].size()))
+      fail(path_, std::string("reference to ") + array + "[" + std::to_string(index) +
+                      "] which does not exist");
     return j_[array][index];
   }
 
@@ -154,21 +164,33 @@ class Gltf {
   std::vector<double> accessor(int index, int& comps) const {
     const json& a = at("accessors", index);
     if (a.contains("sparse")) fail(path_, "sparse accessors are not supported");
-    static const std::map<std::string, int> ncomp = {{"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}};
+    static const std::map<std::string, int> ncomp = {
+        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}};
     const auto it = ncomp.find(a.value("type", ""));
-    if (it == ncomp.end()) fail(path_, "accessor " + std::to_string(index) + " has unsupported type");
+    if (it == ncomp.end())
+      fail(path_, "accessor " + std::to_string(index) + " has unsupported type");
     comps = it->second;
     const int ct = a.value("componentType", 0);
-    const int size = ct == 5126 || ct == 5125 ? 4 : ct == 5123 || ct == 5122 ? 2 : ct == 5121 || ct == 5120 ? 1 : 0;
-    if (size == 0) fail(path_, "accessor " + std::to_string(index) + " has unsupported componentType " + std::to_string(ct));
+    const int size = ct == 5126 || ct == 5125   ? 4
+                     : ct == 5123 || ct == 5122 ? 2
+                     : ct == 5121 || ct == 5120 ? 1
+                                                : 0;
+    if (size == 0)
+      fail(path_, "accessor " + std::to_string(index) + " has unsupported componentType " +
+                      std::to_string(ct));
     const size_t count = a.value("count", size_t{0});
     const json& view = at("bufferViews", a.value("bufferView", -1));
-    const std::string& buf = buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
-    const size_t stride = view.value("byteStride", size_t{0}) ? view.value("byteStride", size_t{0}) : size_t(size) * comps;
+    const std::string& buf =
+        buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
+    const size_t stride = view.value("byteStride", size_t{0}) ? view.value("byteStride", size_t{0})
+                                                              : size_t(size) * comps;
     const size_t start = view.value("byteOffset", size_t{0}) + a.value("byteOffset", size_t{0});
-    const size_t view_end = view.value("byteOffset", size_t{0}) + view.value("byteLength", size_t{0});
-    if (count > 0 && (start + stride * (count - 1) + size_t(size) * comps > std::min(view_end, buf.size())))
-      fail(path_, "accessor " + std::to_string(index) + " reads past the end of its buffer (truncated file?)");
+    const size_t view_end =
+        view.value("byteOffset", size_t{0}) + view.value("byteLength", size_t{0});
+    if (count > 0 &&
+        (start + stride * (count - 1) + size_t(size) * comps > std::min(view_end, buf.size())))
+      fail(path_, "accessor " + std::to_string(index) +
+                      " reads past the end of its buffer (truncated file?)");
     const bool norm = a.value("normalized", false);
     std::vector<double> out(count * comps);
     for (size_t i = 0; i < count; ++i)
@@ -176,12 +198,46 @@ class Gltf {
         const char* p = buf.data() + start + i * stride + size_t(c) * size;
         double v = 0;
         switch (ct) {
-          case 5126: { float f; std::memcpy(&f, p, 4); v = f; break; }
-          case 5125: { std::uint32_t u; std::memcpy(&u, p, 4); v = u; if (norm) v /= 4294967295.0; break; }
-          case 5123: { std::uint16_t u; std::memcpy(&u, p, 2); v = u; if (norm) v /= 65535.0; break; }
-          case 5122: { std::int16_t u; std::memcpy(&u, p, 2); v = u; if (norm) v = std::max(v / 32767.0, -1.0); break; }
-          case 5121: { std::uint8_t u; std::memcpy(&u, p, 1); v = u; if (norm) v /= 255.0; break; }
-          default: { std::int8_t u; std::memcpy(&u, p, 1); v = u; if (norm) v = std::max(v / 127.0, -1.0); }
+          case 5126: {
+            float f;
+            std::memcpy(&f, p, 4);
+            v = f;
+            break;
+          }
+          case 5125: {
+            std::uint32_t u;
+            std::memcpy(&u, p, 4);
+            v = u;
+            if (norm) v /= 4294967295.0;
+            break;
+          }
+          case 5123: {
+            std::uint16_t u;
+            std::memcpy(&u, p, 2);
+            v = u;
+            if (norm) v /= 65535.0;
+            break;
+          }
+          case 5122: {
+            std::int16_t u;
+            std::memcpy(&u, p, 2);
+            v = u;
+            if (norm) v = std::max(v / 32767.0, -1.0);
+            break;
+          }
+          case 5121: {
+            std::uint8_t u;
+            std::memcpy(&u, p, 1);
+            v = u;
+            if (norm) v /= 255.0;
+            break;
+          }
+          default: {
+            std::int8_t u;
+            std::memcpy(&u, p, 1);
+            v = u;
+            if (norm) v = std::max(v / 127.0, -1.0);
+          }
         }
         out[i * comps + c] = v;
       }
@@ -191,7 +247,8 @@ class Gltf {
   void add_mesh(TriMesh& m, int mesh_index, const Eigen::Matrix4d& world) {
     for (const auto& prim : at("meshes", mesh_index).value("primitives", json::array())) {
       if (prim.value("mode", 4) != 4)
-        fail(path_, "primitive mode " + std::to_string(prim.value("mode", 4)) + " is not supported (triangles only)");
+        fail(path_, "primitive mode " + std::to_string(prim.value("mode", 4)) +
+                        " is not supported (triangles only)");
       const json& attr = prim.value("attributes", json::object());
       if (!attr.contains("POSITION")) fail(path_, "a primitive has no POSITION attribute");
       int c = 0;
@@ -203,7 +260,8 @@ class Gltf {
       if (attr.contains("TEXCOORD_0")) uv = accessor(attr["TEXCOORD_0"].get<int>(), cu);
       if (attr.contains("COLOR_0")) col = accessor(attr["COLOR_0"].get<int>(), cc);
       for (size_t i = 0; i < n; ++i) {
-        const Eigen::Vector4d p = world * Eigen::Vector4d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1);
+        const Eigen::Vector4d p =
+            world * Eigen::Vector4d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1);
         m.vertices.push_back(p.head<3>());
         Eigen::Vector2d t(0, 0);
         if (cu == 2 && uv.size() >= 2 * (i + 1)) {
@@ -211,8 +269,9 @@ class Gltf {
           if (!options_.gltf_uv_bottom_origin) t.y() = 1 - t.y();  // glTF v = 0 is the top row
         }
         m.uvs.push_back(t);
-        m.colors.push_back(cc >= 3 && col.size() >= cc * (i + 1) ? Eigen::Vector3d(col[cc * i], col[cc * i + 1], col[cc * i + 2])
-                                                                 : Eigen::Vector3d(1, 1, 1));
+        m.colors.push_back(cc >= 3 && col.size() >= cc * (i + 1)
+                               ? Eigen::Vector3d(col[cc * i], col[cc * i + 1], col[cc * i + 2])
+                               : Eigen::Vector3d(1, 1, 1));
       }
       any_uv_ |= cu == 2;
       any_color_ |= cc >= 3;
@@ -223,16 +282,20 @@ class Gltf {
       } else {
         for (size_t i = 0; i < n; ++i) idx.push_back(static_cast<double>(i));
       }
-      if (idx.size() % 3) fail(path_, "index count " + std::to_string(idx.size()) + " is not a multiple of 3");
+      if (idx.size() % 3)
+        fail(path_, "index count " + std::to_string(idx.size()) + " is not a multiple of 3");
       for (size_t k = 0; k < idx.size(); k += 3) {
         std::array<int, 3> t;
         for (int q = 0; q < 3; ++q) {
-          if (idx[k + q] >= n) fail(path_, "index " + std::to_string(static_cast<long>(idx[k + q])) + " out of range (" + std::to_string(n) + " vertices)");
+          if (idx[k + q] >= n)
+            fail(path_, "index " + std::to_string(static_cast<long>(idx[k + q])) +
+                            " out of range (" + std::to_string(n) + " vertices)");
           t[q] = static_cast<int>(base + idx[k + q]);
         }
         m.triangles.push_back(t);
       }
-      if (texture_image_ < 0 && prim.contains("material")) texture_image_ = base_color_image(prim["material"].get<int>());
+      if (texture_image_ < 0 && prim.contains("material"))
+        texture_image_ = base_color_image(prim["material"].get<int>());
     }
   }
 
@@ -251,12 +314,16 @@ class Gltf {
       bytes = uri_bytes(img["uri"].get<std::string>(), path_);
     } else {
       const json& view = at("bufferViews", img.value("bufferView", -1));
-      const std::string& buf = buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
-      const size_t off = view.value("byteOffset", size_t{0}), len = view.value("byteLength", size_t{0});
-      if (off + len > buf.size()) fail(path_, "image " + std::to_string(index) + " lies past the end of its buffer");
+      const std::string& buf =
+          buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
+      const size_t off = view.value("byteOffset", size_t{0}),
+                   len = view.value("byteLength", size_t{0});
+      if (off + len > buf.size())
+        fail(path_, "image " + std::to_string(index) + " lies past the end of its buffer");
       bytes = buf.substr(off, len);
     }
-    cv::Mat out = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, bytes.data()), cv::IMREAD_COLOR);
+    cv::Mat out = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, bytes.data()),
+                               cv::IMREAD_COLOR);
     if (out.empty()) fail(path_, "image " + std::to_string(index) + " cannot be decoded");
     return out;
   }

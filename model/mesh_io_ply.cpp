@@ -32,9 +32,9 @@ struct Element {
 
 int type_size(const std::string& t) {
   static const std::map<std::string, int> sizes = {
-      {"char", 1},   {"uchar", 1},  {"int8", 1},   {"uint8", 1},   {"short", 2},   {"ushort", 2},
-      {"int16", 2},  {"uint16", 2}, {"int", 4},    {"uint", 4},    {"int32", 4},   {"uint32", 4},
-      {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+      {"char", 1},  {"uchar", 1},   {"int8", 1},   {"uint8", 1},  {"short", 2}, {"ushort", 2},
+      {"int16", 2}, {"uint16", 2},  {"int", 4},    {"uint", 4},   {"int32", 4}, {"uint32", 4},
+      {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
   const auto it = sizes.find(t);
   return it == sizes.end() ? 0 : it->second;
 }
@@ -52,7 +52,8 @@ class Reader {
     unsigned char b[8];
     std::memcpy(b, data_.data() + pos_, n);
     pos_ += n;
-    if ((format_ == Format::BinaryBE) == (std::endian::native == std::endian::little)) std::reverse(b, b + n);
+    if ((format_ == Format::BinaryBE) == (std::endian::native == std::endian::little))
+      std::reverse(b, b + n);
     auto get = [&](auto v) {
       std::memcpy(&v, b, sizeof(v));
       return static_cast<double>(v);
@@ -107,10 +108,14 @@ size_t parse_header(const std::string& d, const std::string& path, Format& forma
       std::string f;
       ls >> f;
       have_format = true;
-      if (f == "ascii") format = Format::Ascii;
-      else if (f == "binary_little_endian") format = Format::BinaryLE;
-      else if (f == "binary_big_endian") format = Format::BinaryBE;
-      else fail(path, "unknown PLY format '" + f + "'");
+      if (f == "ascii")
+        format = Format::Ascii;
+      else if (f == "binary_little_endian")
+        format = Format::BinaryLE;
+      else if (f == "binary_big_endian")
+        format = Format::BinaryBE;
+      else
+        fail(path, "unknown PLY format '" + f + "'");
     } else if (key == "element") {
       Element e;
       double count = -1;
@@ -123,9 +128,14 @@ size_t parse_header(const std::string& d, const std::string& path, Format& forma
       Property p;
       std::string t;
       ls >> t;
-      if (t == "list") ls >> p.list_count_type >> p.type >> p.name;
-      else { p.type = t; ls >> p.name; }
-      if (!ls || type_size(p.type) == 0 || (!p.list_count_type.empty() && type_size(p.list_count_type) == 0))
+      if (t == "list")
+        ls >> p.list_count_type >> p.type >> p.name;
+      else {
+        p.type = t;
+        ls >> p.name;
+      }
+      if (!ls || type_size(p.type) == 0 ||
+          (!p.list_count_type.empty() && type_size(p.list_count_type) == 0))
         fail(path, "bad PLY property line '" + line + "'");
       elements.back().props.push_back(p);
     } else if (key == "comment") {
@@ -147,10 +157,26 @@ size_t min_bytes(const Element& e, Format f) {
 }
 
 int scalar_role(const std::string& n) {  // 0..2 xyz, 3..5 rgb, 6..7 uv, -1 other
-  static const std::map<std::string, int> roles = {
-      {"x", 0}, {"y", 1}, {"z", 2}, {"red", 3}, {"green", 4}, {"blue", 5}, {"r", 3}, {"g", 4}, {"b", 5},
-      {"diffuse_red", 3}, {"diffuse_green", 4}, {"diffuse_blue", 5}, {"s", 6}, {"t", 7}, {"u", 6},
-      {"v", 7}, {"texture_u", 6}, {"texture_v", 7}, {"texture_s", 6}, {"texture_t", 7}};
+  static const std::map<std::string, int> roles = {{"x", 0},
+                                                   {"y", 1},
+                                                   {"z", 2},
+                                                   {"red", 3},
+                                                   {"green", 4},
+                                                   {"blue", 5},
+                                                   {"r", 3},
+                                                   {"g", 4},
+                                                   {"b", 5},
+                                                   {"diffuse_red", 3},
+                                                   {"diffuse_green", 4},
+                                                   {"diffuse_blue", 5},
+                                                   {"s", 6},
+                                                   {"t", 7},
+                                                   {"u", 6},
+                                                   {"v", 7},
+                                                   {"texture_u", 6},
+                                                   {"texture_v", 7},
+                                                   {"texture_s", 6},
+                                                   {"texture_t", 7}};
   const auto it = roles.find(n);
   return it == roles.end() ? -1 : it->second;
 }
@@ -170,8 +196,9 @@ TriMesh read_ply(const std::string& path, const MeshReadOptions& options) {
   bool have_vertex = false, have_color = false, have_uv = false;
   for (const Element& e : elements) {
     if (e.count > r.remaining() / min_bytes(e, format))
-      fail(path, "element '" + e.name + "' claims " + std::to_string(e.count) + " entries but only " +
-                     std::to_string(r.remaining()) + " bytes of data remain (corrupt or truncated)");
+      fail(path, "element '" + e.name + "' claims " + std::to_string(e.count) +
+                     " entries but only " + std::to_string(r.remaining()) +
+                     " bytes of data remain (corrupt or truncated)");
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     have_vertex |= is_vertex;
     for (size_t i = 0; i < e.count; ++i) {
@@ -183,7 +210,8 @@ TriMesh read_ply(const std::string& path, const MeshReadOptions& options) {
         if (p.list_count_type.empty()) {
           const double x = r.value(p.type, where);
           const int role = is_vertex ? scalar_role(p.name) : -1;
-          if (role >= 0) v[role] = (role >= 3 && role <= 5 && type_size(p.type) == 1) ? x / 255.0 : x;
+          if (role >= 0)
+            v[role] = (role >= 3 && role <= 5 && type_size(p.type) == 1) ? x / 255.0 : x;
           if (is_vertex && role >= 3 && role <= 5) have_color = true;
           if (is_vertex && role >= 6) have_uv = true;
           continue;
@@ -195,7 +223,8 @@ TriMesh read_ply(const std::string& path, const MeshReadOptions& options) {
         if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) {
           for (double x : vals) poly.push_back(static_cast<int>(std::clamp(x, -1.0, 2e9)));
         } else if (is_face && p.name == "texcoord") {
-          for (size_t k = 0; k + 1 < vals.size(); k += 2) poly_uv.emplace_back(vals[k], vals[k + 1]);
+          for (size_t k = 0; k + 1 < vals.size(); k += 2)
+            poly_uv.emplace_back(vals[k], vals[k + 1]);
         }
       }
       if (is_face) {
@@ -223,9 +252,14 @@ TriMesh read_ply(const std::string& path, const MeshReadOptions& options) {
       if (idx < 0 || idx >= nv)
         fail(path, "face " + std::to_string(f) + ": vertex index " + std::to_string(idx) +
                        " out of range [0, " + std::to_string(nv) + ")");
-      if (!wedges) { poly.push_back(idx); continue; }
-      const Eigen::Vector2d uv = f < wedge_uvs.size() && k < wedge_uvs[f].size() ? wedge_uvs[f][k] : Eigen::Vector2d(0, 0);
-      const auto [it, added] = split.try_emplace({idx, {uv.x(), uv.y()}}, static_cast<int>(out.vertices.size()));
+      if (!wedges) {
+        poly.push_back(idx);
+        continue;
+      }
+      const Eigen::Vector2d uv =
+          f < wedge_uvs.size() && k < wedge_uvs[f].size() ? wedge_uvs[f][k] : Eigen::Vector2d(0, 0);
+      const auto [it, added] =
+          split.try_emplace({idx, {uv.x(), uv.y()}}, static_cast<int>(out.vertices.size()));
       if (added) {
         out.vertices.push_back(m.vertices[idx]);
         out.colors.push_back(m.colors[idx]);
@@ -234,13 +268,16 @@ TriMesh read_ply(const std::string& path, const MeshReadOptions& options) {
       poly.push_back(it->second);
     }
     if (poly.size() < 3) fail(path, "face " + std::to_string(f) + " has fewer than 3 vertices");
-    for (size_t k = 1; k + 1 < poly.size(); ++k) out.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    for (size_t k = 1; k + 1 < poly.size(); ++k)
+      out.triangles.push_back({poly[0], poly[k], poly[k + 1]});
   }
   if (!have_color) out.colors.clear();
   if (!have_uv && !wedges) out.uvs.clear();
   if (options.load_texture && !out.uvs.empty()) {
-    if (!options.texture_path.empty()) out.texture = load_texture(options.texture_path, path);
-    else if (!texture_file.empty()) out.texture = load_texture(texture_file, path);
+    if (!options.texture_path.empty())
+      out.texture = load_texture(options.texture_path, path);
+    else if (!texture_file.empty())
+      out.texture = load_texture(texture_file, path);
   }
   validate_read(out, path);
   return out;
@@ -263,10 +300,12 @@ void write_ply(const TriMesh& mesh, const std::string& path, bool binary) {
   out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
       << "comment orthoface mesh\n";
   if (textured) out << "comment TextureFile " << stem << ".png\n";
-  out << "element vertex " << mesh.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
+  out << "element vertex " << mesh.vertices.size()
+      << "\nproperty float x\nproperty float y\nproperty float z\n";
   if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
   if (uvs) out << "property float s\nproperty float t\n";
-  out << "element face " << mesh.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  out << "element face " << mesh.triangles.size()
+      << "\nproperty list uchar int vertex_indices\nend_header\n";
   auto put = [&](auto v) {
     if (binary) {
       if constexpr (std::endian::native == std::endian::big) {

@@ -63,7 +63,8 @@ TriMesh read_off(const std::string& path) {
   if (head != "OFF" && head != "COFF") fail(path, "not an OFF file (first word '" + head + "')");
   tok.erase(tok.begin());
   if (tok.empty() && !next_tokens(in, tok, line_no)) fail(path, "missing vertex / face counts");
-  if (tok.size() < 2) fail(path, "line " + std::to_string(line_no) + ": expected vertex and face counts");
+  if (tok.size() < 2)
+    fail(path, "line " + std::to_string(line_no) + ": expected vertex and face counts");
   const double nv = number(tok[0], path, line_no), nf = number(tok[1], path, line_no);
   if (nv < 0 || nf < 0 || nv > 1e8 || nf > 1e8 || nv != std::floor(nv) || nf != std::floor(nf))
     fail(path, "bad vertex / face counts " + tok[0] + " " + tok[1]);
@@ -84,7 +85,8 @@ TriMesh read_off(const std::string& path) {
     }
   }
   for (int f = 0; f < static_cast<int>(nf); ++f) {
-    if (!next_tokens(in, tok, line_no)) fail(path, "truncated: " + std::to_string(f) + " faces read");
+    if (!next_tokens(in, tok, line_no))
+      fail(path, "truncated: " + std::to_string(f) + " faces read");
     const double n = number(tok[0], path, line_no);
     if (n < 3 || n != std::floor(n) || tok.size() < 1 + static_cast<size_t>(n))
       fail(path, "line " + std::to_string(line_no) + ": bad face");
@@ -92,11 +94,12 @@ TriMesh read_off(const std::string& path) {
     for (int k = 1; k <= static_cast<int>(n); ++k) {
       const double idx = number(tok[k], path, line_no);
       if (idx < 0 || idx >= nv || idx != std::floor(idx))
-        fail(path, "line " + std::to_string(line_no) + ": vertex index " + tok[k] + " out of range [0, " +
-                       std::to_string(static_cast<long>(nv)) + ")");
+        fail(path, "line " + std::to_string(line_no) + ": vertex index " + tok[k] +
+                       " out of range [0, " + std::to_string(static_cast<long>(nv)) + ")");
       poly.push_back(static_cast<int>(idx));
     }
-    for (size_t k = 1; k + 1 < poly.size(); ++k) m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    for (size_t k = 1; k + 1 < poly.size(); ++k)
+      m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
   }
   if (!colors) m.colors.clear();
   validate_read(m, path);
@@ -128,8 +131,8 @@ void write_obj(const TriMesh& mesh, const std::string& path) {
       std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
     } else {
       const auto& c = mesh.colors[i];
-      std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g %.6g %.6g %.6g\n", v.x(), v.y(), v.z(), c.x(),
-                    c.y(), c.z());
+      std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g %.6g %.6g %.6g\n", v.x(), v.y(), v.z(),
+                    c.x(), c.y(), c.z());
     }
     out << buf;
   }
@@ -152,7 +155,8 @@ void write_obj(const TriMesh& mesh, const std::string& path) {
 void write_off(const TriMesh& mesh, const std::string& path) {
   std::ofstream out = open_tmp(path + ".tmp", path);
   const bool colors = !mesh.colors.empty();
-  out << (colors ? "COFF\n" : "OFF\n") << mesh.vertices.size() << ' ' << mesh.triangles.size() << " 0\n";
+  out << (colors ? "COFF\n" : "OFF\n") << mesh.vertices.size() << ' ' << mesh.triangles.size()
+      << " 0\n";
   char buf[160];
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const auto& v = mesh.vertices[i];
@@ -160,8 +164,8 @@ void write_off(const TriMesh& mesh, const std::string& path) {
     out << buf;
     if (colors) {
       const Eigen::Vector3d c = (mesh.colors[i].cwiseMax(0).cwiseMin(1) * 255).array().round();
-      out << ' ' << static_cast<int>(c.x()) << ' ' << static_cast<int>(c.y()) << ' ' << static_cast<int>(c.z())
-          << " 255";
+      out << ' ' << static_cast<int>(c.x()) << ' ' << static_cast<int>(c.y()) << ' '
+          << static_cast<int>(c.z()) << " 255";
     }
     out << '\n';
   }

@@ -31,8 +31,9 @@ struct Cluster {
 std::vector<double> vertex_areas(const TriMesh& m) {
   std::vector<double> a(m.vertices.size(), 0.0);
   for (const auto& t : m.triangles) {
-    const double area = 0.5 * (m.vertices[t[1]] - m.vertices[t[0]])
-                                  .cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
+    const double area =
+        0.5 *
+        (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
     for (int v : t) a[v] += area / 3.0;
   }
   return a;
@@ -74,7 +75,8 @@ std::vector<Cluster> dense_clusters(const TriMesh& m, const std::vector<double>&
     if (c.mass > 0.0) c.centroid /= c.mass;
     out.push_back(std::move(c));
   }
-  std::sort(out.begin(), out.end(), [](const Cluster& a, const Cluster& b) { return a.mass > b.mass; });
+  std::sort(out.begin(), out.end(),
+            [](const Cluster& a, const Cluster& b) { return a.mass > b.mass; });
   return out;
 }
 
@@ -186,7 +188,10 @@ class MirrorTest {
 std::optional<std::pair<std::pair<int, int>, MirrorPlane>> ear_pair(const TriMesh& m,
                                                                     const std::vector<Cluster>& cl,
                                                                     double diag) {
-  struct Cand { double score; int a, b; };
+  struct Cand {
+    double score;
+    int a, b;
+  };
   std::vector<Cand> cands;
   const size_t top = std::min<size_t>(cl.size(), 20);
   for (size_t a = 0; a < top; ++a)
@@ -196,7 +201,8 @@ std::optional<std::pair<std::pair<int, int>, MirrorPlane>> ear_pair(const TriMes
       if (lo < 0.3 * hi || lo < 0.02 * cl[0].mass || d < 0.15 * diag) continue;
       cands.push_back({d * std::sqrt(lo), int(a), int(b)});
     }
-  std::sort(cands.begin(), cands.end(), [](const Cand& x, const Cand& y) { return x.score > y.score; });
+  std::sort(cands.begin(), cands.end(),
+            [](const Cand& x, const Cand& y) { return x.score > y.score; });
   const MirrorTest test(m, 0.3 * diag);
   int refined = 0;
   for (const Cand& c : cands) {
@@ -207,7 +213,8 @@ std::optional<std::pair<std::pair<int, int>, MirrorPlane>> ear_pair(const TriMes
     const MirrorPlane plane = test.refine(n, o);
     // The pair must map onto itself under the refined plane, and the mesh onto itself.
     const double miss = (MirrorTest::reflect(pa, plane.n, plane.o) - pb).norm();
-    if (plane.error < 0.02 && miss < 0.12 * d) return std::make_pair(std::make_pair(c.a, c.b), plane);
+    if (plane.error < 0.02 && miss < 0.12 * d)
+      return std::make_pair(std::make_pair(c.a, c.b), plane);
   }
   return std::nullopt;
 }
@@ -254,8 +261,8 @@ void face_line_frame(const TriMesh& m, const FeatureOptions& o, LocalFrame& fr, 
   const detail::ProfileSample tip{nose, q.dot(fr.up), q.dot(fr.forward)};
   const auto [above, below] = delta_line(prof, tip, fr.ear_distance);
   if (!above || !below) return;  // keep the ear-nose frame
-  const Eigen::Vector3d up = ((above->s - below->s) * fr.up + (above->f - below->f) * fr.forward)
-                                 .normalized();
+  const Eigen::Vector3d up =
+      ((above->s - below->s) * fr.up + (above->f - below->f) * fr.forward).normalized();
   fr.up = up;
   fr.forward = fr.left.cross(up);
 }
@@ -285,7 +292,8 @@ int most_protruding(const TriMesh& m, const FeatureOptions& o, const LocalFrame&
 bool key_vertices(const TriMesh& m, const std::vector<double>& ratio, const FeatureOptions& o,
                   FeatureReport& r, LocalFrame& fr, std::vector<Cluster>& cl, int& ea, int& eb) {
   const double diag = pose_free_size(m);
-  const double t = std::clamp(top_area_ratio(m, ratio, o.dense_area), o.ratio_threshold, o.ratio_cap);
+  const double t =
+      std::clamp(top_area_ratio(m, ratio, o.dense_area), o.ratio_threshold, o.ratio_cap);
   cl = dense_clusters(m, ratio, t, o.neighbourhood * diag);
   r.cluster.assign(m.vertices.size(), -1);
   for (size_t c = 0; c < cl.size(); ++c)
@@ -293,7 +301,8 @@ bool key_vertices(const TriMesh& m, const std::vector<double>& ratio, const Feat
   const auto pair = ear_pair(m, cl, diag);
   if (!pair) {
     r.missing.push_back("ears (P1, P2): no symmetric pair of dense clusters (" +
-                        std::to_string(cl.size()) + " clusters); a face without ears cannot "
+                        std::to_string(cl.size()) +
+                        " clusters); a face without ears cannot "
                         "give the ears, their midpoint, the axes or the points that need them");
     return false;
   }
@@ -305,7 +314,8 @@ bool key_vertices(const TriMesh& m, const std::vector<double>& ratio, const Feat
   fr.ear_distance = (m.vertices[vb] - m.vertices[va]).norm();
   // P3 (seed 000 §VI.G): the ears' midpoint, moved onto the refined symmetry plane whose normal
   // is the left axis (the profiles are thin slices of that plane).
-  fr.left = plane.n.dot(m.vertices[vb] - m.vertices[va]) > 0.0 ? plane.n : Eigen::Vector3d(-plane.n);
+  fr.left =
+      plane.n.dot(m.vertices[vb] - m.vertices[va]) > 0.0 ? plane.n : Eigen::Vector3d(-plane.n);
   const Eigen::Vector3d mid = 0.5 * (m.vertices[va] + m.vertices[vb]);
   fr.origin = mid - fr.left.dot(mid - plane.o) * fr.left;
   r.ear_midpoint = fr.origin;
@@ -356,9 +366,9 @@ void ear_points(const TriMesh& m, const Cluster& c, const LocalFrame& fr, bool l
       if (m.vertices[v].dot(dir) > m.vertices[best].dot(dir)) best = v;
     return best;
   };
-  const std::pair<const char*, Eigen::Vector3d> pts[] = {
-      {left ? "10.1" : "10.2", fr.up}, {left ? "10.5" : "10.6", -fr.up},
-      {left ? "10.3" : "10.4", -fr.forward}};
+  const std::pair<const char*, Eigen::Vector3d> pts[] = {{left ? "10.1" : "10.2", fr.up},
+                                                         {left ? "10.5" : "10.6", -fr.up},
+                                                         {left ? "10.3" : "10.4", -fr.forward}};
   for (const auto& [name, dir] : pts) {
     const int v = extreme(dir);
     r.points.push_back({name, mpeg4_description(name), v, m.vertices[v]});

@@ -30,11 +30,11 @@ struct FoundPoint {
 // Seed 000's outputs: per-vertex ratio and clusters (z_clusters), the key vertices and local
 // axes (z_repere), the feature points (z_fp), and what could not be found.
 struct FeatureReport {
-  std::vector<double> ratio;   // per vertex: max geodesic / Euclidean over close pairs (>= 1)
-  std::vector<int> cluster;    // per vertex: dense cluster id (largest first), -1 elsewhere
+  std::vector<double> ratio;  // per vertex: max geodesic / Euclidean over close pairs (>= 1)
+  std::vector<int> cluster;   // per vertex: dense cluster id (largest first), -1 elsewhere
   std::optional<int> ear_left, ear_right, nose_tip;  // key vertices P1, P2, P4 (subject's left)
   Eigen::Vector3d ear_midpoint = Eigen::Vector3d::Zero();  // P3
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: left, up, forward (unit)
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();      // columns: left, up, forward (unit)
   bool axes_found = false;
   Eigen::Vector4d symmetry_plane = Eigen::Vector4d::Zero();  // n.p + d = 0, n = left axis
   double symmetry_error = 0.0;  // mean mirror distance / ear distance (0 = symmetric)
@@ -55,6 +55,7 @@ FeatureReport mpeg4_features(const TriMesh& mesh, const FeatureOptions& options 
 double pose_free_size(const TriMesh& mesh);
 
 // Per-vertex ratio field alone (first step above). Throws std::invalid_argument on a bad mesh.
-std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh, const FeatureOptions& options = {});
+std::vector<double> geodesic_euclidean_ratio(const TriMesh& mesh,
+                                             const FeatureOptions& options = {});
 
 }  // namespace orthoface::model

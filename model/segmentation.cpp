@@ -18,7 +18,7 @@ Spherical to_spherical(const Eigen::Vector3d& p) {
   s.rho = p.norm();  // seed 001 eq. 1
   if (s.rho <= 0.0) return s;
   s.phi = std::acos(std::clamp(p.z() / s.rho, -1.0, 1.0));  // eq. 2
-  s.theta = std::atan2(p.y(), p.x());                         // eq. 3 (see header)
+  s.theta = std::atan2(p.y(), p.x());                       // eq. 3 (see header)
   return s;
 }
 
@@ -27,11 +27,11 @@ double haversine_distance(const Spherical& a, const Spherical& b) {
   // +z, so the latitude is pi/2 - phi and its cosine is sin(phi). Using eq. 7 literally gives
   // a wrong great-circle angle (2.18 instead of 1.98 for Table I's A, B).
   const double dphi = b.phi - a.phi, dtheta = b.theta - a.theta;
-  const double h = std::sin(0.5 * dphi) * std::sin(0.5 * dphi) +
-                   std::sin(a.phi) * std::sin(b.phi) * std::sin(0.5 * dtheta) *
-                       std::sin(0.5 * dtheta);
+  const double h = std::sin(0.5 * dphi) * std::sin(0.5 * dphi) + std::sin(a.phi) * std::sin(b.phi) *
+                                                                     std::sin(0.5 * dtheta) *
+                                                                     std::sin(0.5 * dtheta);
   const double c = 2.0 * std::atan2(std::sqrt(h), std::sqrt(std::max(0.0, 1.0 - h)));  // eq. 8
-  return a.rho * c;                                                                       // eq. 9
+  return a.rho * c;                                                                    // eq. 9
 }
 
 void SegmentationOptions::check() const {

@@ -65,7 +65,8 @@ std::vector<int> radial_targets(const TriMesh& m, const std::vector<double>& d,
       const double cost = diff + 0.2 * std::abs(d[v] - outer) / outer;
       if (cost < best_cost) best_cost = cost, best = int(v);
     }
-    if (best < 0) throw std::runtime_error("face_signature: no surface at the outermost iso-geodesic");
+    if (best < 0)
+      throw std::runtime_error("face_signature: no surface at the outermost iso-geodesic");
     out.push_back(best);
   }
   return out;
@@ -125,7 +126,9 @@ FaceSignature face_signature(const TriMesh& mesh, const SimilarityOptions& optio
   }();
   double outer = options.radius;
   for (int b : boundary_vertices(m)) outer = std::min(outer, d[b]);  // §4.2 eq. 2
-  if (outer < options.radius) sig.warnings.push_back("network radius limited by the mesh boundary to " + std::to_string(outer));
+  if (outer < options.radius)
+    sig.warnings.push_back("network radius limited by the mesh boundary to " +
+                           std::to_string(outer));
   if (!(outer >= 0.05 * options.radius))
     throw std::runtime_error("face_signature: the mesh boundary is " + std::to_string(outer) +
                              " from the nose tip, too close for a network of radius " +
@@ -151,7 +154,7 @@ FaceSignature face_signature(const TriMesh& mesh, const SimilarityOptions& optio
     Ra[v] = ring_average(nb, R, int(v), options.w0, options.w1, options.w2);
   }
   for (int target : radial_targets(m, d, tip, outer, options)) {
-    const GeodesicPath path = geodesic_path(m, d, target);  // §4.4
+    const GeodesicPath path = geodesic_path(m, d, target);            // §4.4
     for (const Eigen::Vector3d& p : crossings(path, sig.width, n)) {  // §4.5 eq. 5
       const int v = nearest_vertex(m, p);
       sig.network.push_back(am.original_index[v]);
@@ -182,7 +185,8 @@ double abs_correlation(const std::vector<double>& a, const std::vector<double>& 
   for (size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
   double sab = 0, saa = 0, sbb = 0;
   for (size_t i = 0; i < a.size(); ++i)
-    sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
+    sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma),
+        sbb += (b[i] - mb) * (b[i] - mb);
   const double scale = 1e-24 * std::max(1.0, ma * ma + mb * mb) * n;
   if (saa <= scale || sbb <= scale) return std::numeric_limits<double>::quiet_NaN();
   return std::abs(sab / std::sqrt(saa * sbb));  // seed 003 eq. 17, absolute value (§6)
@@ -196,7 +200,8 @@ SimilarityScores similarity(const FaceSignature& a, const FaceSignature& b) {
                                 " and " + std::to_string(b.mean.size()) +
                                 " points (build both with the same options)");
   return {abs_correlation(a.mean, b.mean), abs_correlation(a.gaussian, b.gaussian),
-          abs_correlation(a.shape_index, b.shape_index), abs_correlation(a.curvedness, b.curvedness)};
+          abs_correlation(a.shape_index, b.shape_index),
+          abs_correlation(a.curvedness, b.curvedness)};
 }
 
 }  // namespace orthoface::model

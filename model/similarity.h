@@ -10,13 +10,13 @@
 namespace orthoface::model {
 
 struct SimilarityOptions {
-  int iso_geodesics = 8;       // n iso-geodesics (seed 003 §4.2: 8)
-  int radial_geodesics = 16;   // m geodesics from the nose tip at equal angles (§4.3)
-  double radius = 80.0;        // outermost iso-geodesic (mesh units) unless a boundary is closer
-  double w0 = 100, w1 = 10, w2 = 1;  // ring weights of eq. 16
+  int iso_geodesics = 8;      // n iso-geodesics (seed 003 §4.2: 8)
+  int radial_geodesics = 16;  // m geodesics from the nose tip at equal angles (§4.3)
+  double radius = 80.0;       // outermost iso-geodesic (mesh units) unless a boundary is closer
+  double w0 = 100, w1 = 10, w2 = 1;    // ring weights of eq. 16
   Eigen::Vector3d view_axis{0, 0, 1};  // standard pose: the nose tip is the max along this (§4.1)
   Eigen::Vector3d up_axis{0, 1, 0};    // direction of the first geodesic (toward the brows)
-  void check() const;  // throws std::invalid_argument naming the bad field
+  void check() const;                  // throws std::invalid_argument naming the bad field
 };
 
 // The correspondence network of one face (seed 003 §4-5) and its four ring-averaged metrics.

@@ -70,7 +70,6 @@ std::optional<double> extreme_at(const std::vector<Eigen::Vector2d>& curve, doub
 
 double confidence_of(const vision::Feature2d& f) { return std::clamp(f.confidence, 0.0, 1.0); }
 
-
 void check_observation(const vision::FaceObservation& obs) {
   require_finite(obs.front.boundary, "front boundary");
   require_finite(obs.side.boundary, "side boundary");
@@ -133,10 +132,10 @@ void set_height_range(StereoData& d, double min_overlap) {
   d.y_top = std::min(s_hi, p_hi);
   const double overlap = std::max(0.0, d.y_top - d.y_bottom);
   if (s_hi - s_lo <= 0 || overlap < min_overlap * (s_hi - s_lo))
-    throw std::invalid_argument(
-        "inconsistent heights between views: the side profile spans y " + std::to_string(p_lo) +
-        ".." + std::to_string(p_hi) + " mm, the front silhouette y " + std::to_string(s_lo) +
-        ".." + std::to_string(s_hi) + " mm");
+    throw std::invalid_argument("inconsistent heights between views: the side profile spans y " +
+                                std::to_string(p_lo) + ".." + std::to_string(p_hi) +
+                                " mm, the front silhouette y " + std::to_string(s_lo) + ".." +
+                                std::to_string(s_hi) + " mm");
 }
 
 double reprojection_px(const capture::RigCalibration& rig, const Eigen::Vector3d& p,
@@ -177,8 +176,10 @@ std::optional<StereoPoint> match_feature(const std::string& name, const vision::
   } else {
     sp.head_mm = on_plane(fray, Eigen::Vector3d::UnitZ(), 0.0);
     const auto z = midline ? profile_z_at(d, sp.head_mm.y()) : std::nullopt;
-    if (z) sp.head_mm = on_plane(fray, Eigen::Vector3d::UnitZ(), *z);
-    else sp.has_depth = false;
+    if (z)
+      sp.head_mm = on_plane(fray, Eigen::Vector3d::UnitZ(), *z);
+    else
+      sp.has_depth = false;
   }
   return sp;
 }
@@ -202,8 +203,7 @@ Eigen::Vector3d triangulate(const capture::RigCalibration& rig, const Eigen::Vec
   const double bb = a.direction.dot(b.direction);
   const double d = a.direction.dot(w0), e = b.direction.dot(w0);
   const double den = 1.0 - bb * bb;
-  if (den < 1e-9)
-    throw std::invalid_argument("triangulate: the two viewing rays are parallel");
+  if (den < 1e-9) throw std::invalid_argument("triangulate: the two viewing rays are parallel");
   const double s = (bb * e - d) / den, t = (e - bb * d) / den;
   return 0.5 * ((a.origin + s * a.direction) + (b.origin + t * b.direction));
 }
@@ -244,7 +244,8 @@ StereoData stereo_match(const vision::FaceObservation& obs, const capture::RigCa
     d.silhouette.push_back(
         on_plane(pixel_ray(rig.front, {p.x, p.y}), Eigen::Vector3d::UnitZ(), 0.0).head<2>());
   for (const cv::Point2d& p : side.boundary) {
-    const Eigen::Vector3d q = on_plane(pixel_ray(rig.side, {p.x, p.y}), Eigen::Vector3d::UnitX(), 0.0);
+    const Eigen::Vector3d q =
+        on_plane(pixel_ray(rig.side, {p.x, p.y}), Eigen::Vector3d::UnitX(), 0.0);
     d.profile.emplace_back(q.z(), q.y());
   }
   set_centre_line(obs, rig.front, d);

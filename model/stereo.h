@@ -22,9 +22,9 @@ struct StereoOptions {
 // One 3D point from stereo matching, head frame (mm).
 struct StereoPoint {
   Eigen::Vector3d head_mm = Eigen::Vector3d::Zero();
-  bool has_depth = true;      // false: seen in the front view only, z is unknown (left 0)
-  double confidence = 0.0;    // the lower of the two views' confidences
-  double mismatch_px = 0.0;   // largest reprojection error of the matched point in either view
+  bool has_depth = true;     // false: seen in the front view only, z is unknown (left 0)
+  double confidence = 0.0;   // the lower of the two views' confidences
+  double mismatch_px = 0.0;  // largest reprojection error of the matched point in either view
 };
 
 // What stereo matching gives the adaptation: the front silhouette and the side profile as
@@ -32,11 +32,11 @@ struct StereoPoint {
 struct StereoData {
   std::vector<Eigen::Vector2d> silhouette;  // front boundary, (x, y) mm on the plane z = 0
   std::vector<Eigen::Vector2d> profile;     // side boundary, (z, y) mm on the plane x = 0
-  Eigen::Vector2d centre_point = Eigen::Vector2d::Zero();  // centre line: (x, y) mm on z = 0
+  Eigen::Vector2d centre_point = Eigen::Vector2d::Zero();       // centre line: (x, y) mm on z = 0
   Eigen::Vector2d centre_direction = Eigen::Vector2d::UnitY();  // unit (dx, dy)
   std::map<std::string, StereoPoint> features;
-  double y_top = 0.0, y_bottom = 0.0;       // heights covered by both silhouette and profile
-  std::vector<std::string> warnings;        // disagreements between views, dropped features
+  double y_top = 0.0, y_bottom = 0.0;  // heights covered by both silhouette and profile
+  std::vector<std::string> warnings;   // disagreements between views, dropped features
 };
 
 // Seed 004 eq. 1 for the ideal rig (orthographic, shared row): front pixel -> x and y, side

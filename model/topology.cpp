@@ -42,7 +42,8 @@ double bbox_diagonal(const std::vector<Eigen::Vector3d>& v) {
 }
 
 std::uint64_t edge_key(int a, int b) {
-  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) | static_cast<std::uint32_t>(std::max(a, b));
+  return (static_cast<std::uint64_t>(std::min(a, b)) << 32) |
+         static_cast<std::uint32_t>(std::max(a, b));
 }
 
 // Vertices whose triangles form more than one fan (joined only through the vertex itself).
@@ -62,9 +63,11 @@ int count_non_manifold_vertices(const std::vector<std::array<int, 3>>& tris,
       for (int w : tris[ts[k]])
         if (w != static_cast<int>(v)) by_other[w].push_back(static_cast<int>(k));
     for (const auto& [w, ks] : by_other)
-      if (ks.size() == 2 && edges.at(edge_key(static_cast<int>(v), w)).first == 2) uf.unite(ks[0], ks[1]);
+      if (ks.size() == 2 && edges.at(edge_key(static_cast<int>(v), w)).first == 2)
+        uf.unite(ks[0], ks[1]);
     int fans = 0;
-    for (size_t k = 0; k < ts.size(); ++k) fans += uf.find(static_cast<int>(k)) == static_cast<int>(k);
+    for (size_t k = 0; k < ts.size(); ++k)
+      fans += uf.find(static_cast<int>(k)) == static_cast<int>(k);
     if (fans > 1) ++count;
   }
   return count;
@@ -172,7 +175,8 @@ TopologyReport topology_report(const TriMesh& mesh, const TopologyOptions& optio
   }
   for (size_t i = 0; i < rep.size(); ++i) {
     if (rep[i] != static_cast<int>(i)) continue;
-    if (!used[i]) ++r.isolated_vertices;
+    if (!used[i])
+      ++r.isolated_vertices;
     else {
       ++r.vertices;
       if (comp.find(static_cast<int>(i)) == static_cast<int>(i)) ++r.components;

@@ -15,17 +15,17 @@ struct TopologyOptions {
 // so topology is judged on positions). Counts refer to the welded mesh.
 struct TopologyReport {
   int input_vertices = 0;
-  int vertices = 0;                 // welded vertices used by a valid triangle
-  int isolated_vertices = 0;        // welded vertices used by no valid triangle
+  int vertices = 0;           // welded vertices used by a valid triangle
+  int isolated_vertices = 0;  // welded vertices used by no valid triangle
   int edges = 0;
-  int triangles = 0;                // valid (non-degenerate) triangles
-  int degenerate_triangles = 0;     // a repeated welded vertex or (near) zero area
-  int boundary_edges = 0;           // edges with one triangle
-  int non_manifold_edges = 0;       // edges with more than two triangles
-  int non_manifold_vertices = 0;    // vertices whose triangles form more than one fan
-  int inconsistent_edges = 0;       // two-triangle edges used in the same direction by both
-  int components = 0;               // triangle sets connected through shared vertices
-  int euler_characteristic = 0;     // vertices - edges + triangles
+  int triangles = 0;              // valid (non-degenerate) triangles
+  int degenerate_triangles = 0;   // a repeated welded vertex or (near) zero area
+  int boundary_edges = 0;         // edges with one triangle
+  int non_manifold_edges = 0;     // edges with more than two triangles
+  int non_manifold_vertices = 0;  // vertices whose triangles form more than one fan
+  int inconsistent_edges = 0;     // two-triangle edges used in the same direction by both
+  int components = 0;             // triangle sets connected through shared vertices
+  int euler_characteristic = 0;   // vertices - edges + triangles
   bool closed() const { return boundary_edges == 0; }
   bool manifold() const { return non_manifold_edges == 0 && non_manifold_vertices == 0; }
   // Closed, manifold, consistently oriented, one component, no degenerate triangles.

@@ -23,8 +23,8 @@ void check_mesh(const TriMesh& mesh, const std::string& what) {
     fail("uvs has " + std::to_string(mesh.uvs.size()) + " entries for " + std::to_string(n) +
          " vertices");
   if (!mesh.colors.empty() && mesh.colors.size() != mesh.vertices.size())
-    fail("colors has " + std::to_string(mesh.colors.size()) + " entries for " +
-         std::to_string(n) + " vertices");
+    fail("colors has " + std::to_string(mesh.colors.size()) + " entries for " + std::to_string(n) +
+         " vertices");
   if (!mesh.texture.empty() && mesh.texture.type() != CV_8UC3)
     fail("texture must be 8-bit BGR, got OpenCV type " + std::to_string(mesh.texture.type()));
 }

@@ -16,15 +16,18 @@ constexpr int kMaxSheetSide = 16384;
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
 
 cv::Mat to_bgr(const cv::Mat& image, size_t index) {
-  if (image.depth() != CV_8U || (image.channels() != 1 && image.channels() != 3 &&
-                                 image.channels() != 4))
+  if (image.depth() != CV_8U ||
+      (image.channels() != 1 && image.channels() != 3 && image.channels() != 4))
     throw std::invalid_argument("contact_sheet: tile " + std::to_string(index) +
                                 " must be 8-bit grey, BGR or BGRA, got type " +
                                 std::to_string(image.type()));
   cv::Mat out;
-  if (image.channels() == 1) cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
-  else if (image.channels() == 4) cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
-  else out = image;
+  if (image.channels() == 1)
+    cv::cvtColor(image, out, cv::COLOR_GRAY2BGR);
+  else if (image.channels() == 4)
+    cv::cvtColor(image, out, cv::COLOR_BGRA2BGR);
+  else
+    out = image;
   return out;
 }
 
@@ -49,10 +52,12 @@ void place(cv::Mat& sheet, const cv::Mat& image, cv::Point cell_origin, cv::Size
   const cv::Size size(std::max(1, int(std::lround(image.cols * s))),
                       std::max(1, int(std::lround(image.rows * s))));
   cv::Mat scaled;
-  if (size == image.size()) scaled = image;
-  else cv::resize(image, scaled, size, 0, 0, s < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
-  const cv::Point at = cell_origin + cv::Point((cell.width - size.width) / 2,
-                                               (cell.height - size.height) / 2);
+  if (size == image.size())
+    scaled = image;
+  else
+    cv::resize(image, scaled, size, 0, 0, s < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  const cv::Point at =
+      cell_origin + cv::Point((cell.width - size.width) / 2, (cell.height - size.height) / 2);
   scaled.copyTo(sheet(cv::Rect(at, size)));
 }
 
@@ -63,7 +68,8 @@ void ContactSheetOptions::check() const {
     throw std::invalid_argument("ContactSheetOptions: " + what);
   };
   if (columns < 0) bad("columns must be >= 0");
-  if (tile_width < 0 || tile_height < 0 || tile_width > kMaxSheetSide || tile_height > kMaxSheetSide)
+  if (tile_width < 0 || tile_height < 0 || tile_width > kMaxSheetSide ||
+      tile_height > kMaxSheetSide)
     bad("tile size must be in 0..16384");
   if (margin_px < 0 || margin_px > 1000) bad("margin_px must be in 0..1000");
   if (!std::isfinite(font_scale) || font_scale <= 0 || font_scale > 10)

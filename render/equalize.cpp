@@ -18,8 +18,7 @@ Eigen::Vector2d undistorted_pixel(const capture::CameraModel& c, const Eigen::Ve
 }
 
 double facing(const capture::CameraModel& c, const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
-  if (c.projection == capture::Projection::Orthographic)
-    return n.dot(-capture::view_direction(c));
+  if (c.projection == capture::Projection::Orthographic) return n.dot(-capture::view_direction(c));
   const Eigen::Vector3d centre = c.cam_from_head.inverse().translation();
   return n.dot((centre - p).normalized());
 }
@@ -45,8 +44,9 @@ cv::Vec3d bilinear(const cv::Mat& bgr, const Eigen::Vector2d& uv) {
   const double fx = x - x0, fy = y - y0;
   cv::Vec3d out;
   for (int k = 0; k < 3; ++k)
-    out[k] = (1 - fy) * ((1 - fx) * bgr.at<cv::Vec3b>(y0, x0)[k] + fx * bgr.at<cv::Vec3b>(y0, x1)[k]) +
-             fy * ((1 - fx) * bgr.at<cv::Vec3b>(y1, x0)[k] + fx * bgr.at<cv::Vec3b>(y1, x1)[k]);
+    out[k] =
+        (1 - fy) * ((1 - fx) * bgr.at<cv::Vec3b>(y0, x0)[k] + fx * bgr.at<cv::Vec3b>(y0, x1)[k]) +
+        fy * ((1 - fx) * bgr.at<cv::Vec3b>(y1, x0)[k] + fx * bgr.at<cv::Vec3b>(y1, x1)[k]);
   return out;
 }
 

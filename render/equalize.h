@@ -22,8 +22,8 @@ double facing(const capture::CameraModel& camera, const Eigen::Vector3d& p,
 
 // True when source `camera` with z_cam depth map `depth` (CV_32F, +inf empty) sees p, whose
 // facing cosine is `cosine` (> 0 needed); tolerance as in the synthesis shader.
-bool source_sees(const capture::CameraModel& camera, const cv::Mat& depth,
-                 const Eigen::Vector3d& p, double cosine, double tolerance_mm);
+bool source_sees(const capture::CameraModel& camera, const cv::Mat& depth, const Eigen::Vector3d& p,
+                 double cosine, double tolerance_mm);
 
 // Bilinear BGR sample at pixel position uv (pixel-centre convention of camera_model.h).
 cv::Vec3d bilinear(const cv::Mat& bgr, const Eigen::Vector2d& uv);
@@ -36,7 +36,8 @@ ColourMatch colour_match(const std::vector<Eigen::Vector3d>& vertices,
                          const std::array<cv::Mat, 2>& photos);
 
 // `photo` (8-bit BGR) of `source` (0 front, 1 side) mapped to the front photo's Lab statistics
-// in `match` (the front photo itself is returned as it is); a copy of the photo when match.samples < kMinSamples.
+// in `match` (the front photo itself is returned as it is); a copy of the photo when match.samples
+// < kMinSamples.
 constexpr int kMinSamples = 20;
 cv::Mat equalized(const cv::Mat& photo, const ColourMatch& match, int source);
 

@@ -21,10 +21,10 @@ struct FloatInputs {
 };
 
 struct FloatResult {
-  cv::Mat image;            // CV_8UC3: the blend of the two warped images (background untouched
-                            // where mask is 0: the caller's background is kept from `base`)
-  double mean_shift_px = 0; // mean flow length over the pixels both photos see (0 if none)
-  int overlap_pixels = 0;   // pixels both photos see
+  cv::Mat image;             // CV_8UC3: the blend of the two warped images (background untouched
+                             // where mask is 0: the caller's background is kept from `base`)
+  double mean_shift_px = 0;  // mean flow length over the pixels both photos see (0 if none)
+  int overlap_pixels = 0;    // pixels both photos see
 };
 
 // Blends the warped sources over `base` (the view as rendered, CV_8UC3, whose background stays).

@@ -10,9 +10,17 @@
 namespace orthoface::render::gl {
 
 Context::Context() : buffer_(4, 0) {
-  const int core[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 24,
-                      OSMESA_PROFILE, OSMESA_CORE_PROFILE, OSMESA_CONTEXT_MAJOR_VERSION, 3,
-                      OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
+  const int core[] = {OSMESA_FORMAT,
+                      OSMESA_RGBA,
+                      OSMESA_DEPTH_BITS,
+                      24,
+                      OSMESA_PROFILE,
+                      OSMESA_CORE_PROFILE,
+                      OSMESA_CONTEXT_MAJOR_VERSION,
+                      3,
+                      OSMESA_CONTEXT_MINOR_VERSION,
+                      3,
+                      0};
   ctx_ = OSMesaCreateContextAttribs(core, nullptr);
   if (!ctx_)
     throw std::runtime_error(
@@ -203,8 +211,10 @@ void linear_clamp_parameters() {
 
 GLuint upload_texture(const cv::Mat& image, GLuint tex) {
   cv::Mat rgba;
-  if (image.channels() == 4) cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
-  else cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
+  if (image.channels() == 4)
+    cv::cvtColor(image, rgba, cv::COLOR_BGRA2RGBA);
+  else
+    cv::cvtColor(image, rgba, cv::COLOR_BGR2RGBA);
   rgba = fit_texture_limit(rgba);
   if (!tex) glGenTextures(1, &tex);
   glBindTexture(GL_TEXTURE_2D, tex);

@@ -4,7 +4,8 @@
 // matrices shared by Renderer and ViewSynthesizer (and the reference run in bench/render_bench).
 
 #define GL_GLEXT_PROTOTYPES 1
-#include <GL/osmesa.h>
+#include <GL/osmesa.h>  // first: it includes GL/gl.h, which GL/glext.h needs
+
 #include <GL/glext.h>
 
 #include <array>
@@ -46,7 +47,8 @@ struct Framebuffer {
   std::vector<GLuint> colors;
   std::vector<GLenum> formats;
   int width = 0, height = 0;
-  void ensure(int w, int h, const std::vector<GLenum>& color_formats);  // binds; reallocates on change
+  void ensure(int w, int h,
+              const std::vector<GLenum>& color_formats);  // binds; reallocates on change
   void release();
 };
 

@@ -67,15 +67,15 @@ std::string gltf_json(const model::TriMesh& m, const std::vector<View>& views, s
     << R"("images":[{"bufferView":4,"mimeType":"image/png"}],)"
     << R"("accessors":[)"
     << R"({"bufferView":0,"componentType":5126,"count":)" << n << R"(,"type":"VEC3","min":[)"
-    << lo.x() << "," << lo.y() << "," << lo.z() << "],\"max\":[" << hi.x() << "," << hi.y()
-    << "," << hi.z() << "]},"
+    << lo.x() << "," << lo.y() << "," << lo.z() << "],\"max\":[" << hi.x() << "," << hi.y() << ","
+    << hi.z() << "]},"
     << R"({"bufferView":1,"componentType":5126,"count":)" << n << R"(,"type":"VEC3"},)"
     << R"({"bufferView":2,"componentType":5126,"count":)" << n << R"(,"type":"VEC2"},)"
     << R"({"bufferView":3,"componentType":5125,"count":)" << m.triangles.size() * 3
     << R"(,"type":"SCALAR"}],"bufferViews":[)";
   for (size_t i = 0; i < views.size(); ++i) {
-    j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].offset
-      << R"(,"byteLength":)" << views[i].length;
+    j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].offset << R"(,"byteLength":)"
+      << views[i].length;
     if (views[i].target) j << R"(,"target":)" << views[i].target;
     j << "}";
   }

@@ -27,8 +27,10 @@ cv::Mat checked_mask(const cv::Mat& a, const cv::Mat& b, const cv::Mat& mask,
 
 cv::Mat luma(const cv::Mat& img) {
   cv::Mat g;
-  if (img.channels() == 3) cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
-  else g = img;
+  if (img.channels() == 3)
+    cv::cvtColor(img, g, cv::COLOR_BGR2GRAY);
+  else
+    g = img;
   g.convertTo(g, CV_64F);
   return g;
 }

@@ -29,8 +29,10 @@ cv::Mat as_bgr(const cv::Mat& photo, const capture::CameraModel& cam, const std:
                                 "x" + std::to_string(photo.rows) + " but its camera is " +
                                 std::to_string(cam.width) + "x" + std::to_string(cam.height));
   cv::Mat bgr;
-  if (photo.channels() == 1) cv::cvtColor(photo, bgr, cv::COLOR_GRAY2BGR);
-  else bgr = photo;
+  if (photo.channels() == 1)
+    cv::cvtColor(photo, bgr, cv::COLOR_GRAY2BGR);
+  else
+    bgr = photo;
   return bgr;
 }
 
@@ -79,8 +81,8 @@ double facing_ramp(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
 }
 
 // The synthesis fragment shader specialised for the rig's source cameras and the options.
-std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility,
-                          bool weighted, int only_source, bool sources_out, bool mirror) {
+std::string view_fragment(const capture::RigCalibration& rig, Visibility visibility, bool weighted,
+                          int only_source, bool sources_out, bool mirror) {
   std::string defines = "#version 330 core\n";
   if (sources_out) defines += "#define SOURCES_OUT 1\n";
   if (mirror) defines += "#define MIRROR 1\n";
@@ -111,9 +113,12 @@ Blend parse_blend(const std::string& name) {
 
 const char* blend_name(Blend blend) {
   switch (blend) {
-    case Blend::View: return "view";
-    case Blend::Pick: return "pick";
-    case Blend::Weighted: return "weighted";
+    case Blend::View:
+      return "view";
+    case Blend::Pick:
+      return "pick";
+    case Blend::Weighted:
+      return "weighted";
   }
   return "?";
 }
@@ -153,8 +158,8 @@ struct ViewSynthesizer::Impl {
   gl::Framebuffer fb;
 
   Impl() {
-    depth_prog = gl::program(shaders::kSourceDepthVertex, shaders::kSourceDepthFragment,
-                             "source_depth");
+    depth_prog =
+        gl::program(shaders::kSourceDepthVertex, shaders::kSourceDepthFragment, "source_depth");
     equalize_prog = gl::program(shaders::kEqualizeVertex, shaders::kEqualizeFragment, "equalize");
     glUseProgram(equalize_prog);
     glUniform1i(glGetUniformLocation(equalize_prog, "photo"), 0);
@@ -287,8 +292,8 @@ void ViewSynthesizer::Impl::equalize_photos() {
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted,
-                                           int only_source, bool sources_out, bool mirror) {
+GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted, int only_source,
+                                           bool sources_out, bool mirror) {
   GLuint& p = view_prog[36 * int(mirror) + 18 * int(sources_out) + 6 * (only_source + 1) +
                         2 * int(visibility) + int(weighted)];
   if (!p) {
@@ -379,8 +384,8 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
   const cv::Mat masks[2] = {front, side};
   for (int i = 0; i < 2; ++i) {
     const capture::CameraModel& c = impl_->cam(i);
-    if (!masks[i].empty() && (masks[i].type() != CV_8UC1 || masks[i].cols != c.width ||
-                              masks[i].rows != c.height))
+    if (!masks[i].empty() &&
+        (masks[i].type() != CV_8UC1 || masks[i].cols != c.width || masks[i].rows != c.height))
       throw std::invalid_argument(std::string("new view: ") + (i ? "side" : "front") +
                                   " photo mask must be CV_8U of the camera's size " +
                                   std::to_string(c.width) + "x" + std::to_string(c.height));
@@ -471,7 +476,8 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
       const float ramp[2] = {float(facing_ramp(to_front, to_view, o)),
                              float(facing_ramp(to_side, to_view, o))};
       glUniform1fv(glGetUniformLocation(p, "ramp"), 2, ramp);
-      glUniform1f(glGetUniformLocation(p, "ramp_mirror"), float(facing_ramp(to_mirror, to_view, o)));
+      glUniform1f(glGetUniformLocation(p, "ramp_mirror"),
+                  float(facing_ramp(to_mirror, to_view, o)));
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
       glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
       glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
@@ -480,9 +486,8 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
                      reinterpret_cast<const void*>(first * sizeof(GLuint)));
     };
     // The front photo is the equalisation's reference (unchanged): its raw texture.
-    const GLuint tex[4] = {m.src[0].photo,
-                           o.equalize ? m.src[1].photo_eq : m.src[1].photo, m.src[0].zmap,
-                           m.src[1].zmap};
+    const GLuint tex[4] = {m.src[0].photo, o.equalize ? m.src[1].photo_eq : m.src[1].photo,
+                           m.src[0].zmap, m.src[1].zmap};
     for (int t = 0; t < 4; ++t) {
       glActiveTexture(GLenum(GL_TEXTURE0 + t));
       glBindTexture(GL_TEXTURE_2D, tex[t]);

@@ -33,12 +33,12 @@ const char* blend_name(Blend blend);
 
 struct SynthesisOptions {
   Blend blend = Blend::View;
-  double feather_deg = 6;              // View, Pick: blend over +-this normal angle around the switch
-  double view_gain = 2;                // View: weight of the new view's closeness to each camera
-  double weighted_power = 2;           // Weighted: exponent of the facing cosine
-  bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
-  bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion
-                                       // is certain drawn by cheaper programs (the same pixels)
+  double feather_deg = 6;            // View, Pick: blend over +-this normal angle around the switch
+  double view_gain = 2;              // View: weight of the new view's closeness to each camera
+  double weighted_power = 2;         // Weighted: exponent of the facing cosine
+  bool per_pixel_visibility = true;  // false: occlusion tested per vertex (faster, coarser)
+  bool skip_unoccluded = true;       // per pixel: triangles where a photo alone or no occlusion
+                                     // is certain drawn by cheaper programs (the same pixels)
   double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
   // Floating textures (render/floating_textures.h): the two photos' renderings of the view are
@@ -46,11 +46,11 @@ struct SynthesisOptions {
   // one photo shows once. Costs two flows per view (CPU) and draws every triangle with the
   // per-pixel test; off, the blend is the shader's alone.
   bool float_textures = true;
-  cv::Scalar background{0, 0, 0};      // BGR 0..255
-  bool source_weights = false;         // also return per-pixel source weights (slower)
-  bool depth = true;                   // also read back view.depth_mm; false: left empty
-                                       // (image and mask only: less readback per frame)
-  void check() const;                  // throws std::invalid_argument naming the bad field
+  cv::Scalar background{0, 0, 0};  // BGR 0..255
+  bool source_weights = false;     // also return per-pixel source weights (slower)
+  bool depth = true;               // also read back view.depth_mm; false: left empty
+                                   // (image and mask only: less readback per frame)
+  void check() const;              // throws std::invalid_argument naming the bad field
 };
 
 struct SynthesisResult {
@@ -62,8 +62,9 @@ struct SynthesisResult {
 };
 
 // Colour equalisation (Lab mean / std of each photo over the surface both cameras see well; the
-// side photo is mapped to the front photo's, which stays as it is). Computed with the first photos, on a new mesh and when asked
-// (ColourUpdate::Recompute, update_colour_match); later photos reuse it.
+// side photo is mapped to the front photo's, which stays as it is). Computed with the first photos,
+// on a new mesh and when asked (ColourUpdate::Recompute, update_colour_match); later photos reuse
+// it.
 struct ColourMatch {
   std::array<cv::Vec3d, 2> mean{}, stddev{};  // Lab (L 0..100) of the front, side samples
   int samples = 0;                            // surface points used; < 20 means no change

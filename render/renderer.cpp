@@ -177,8 +177,7 @@ struct Renderer::Impl {
     glUseProgram(prog);
     glUniformMatrix4fv(glGetUniformLocation(prog, "clip_from_head"), 1, GL_FALSE, clip.data());
     glUniform1i(glGetUniformLocation(prog, "tex"), 0);
-    glUniform3f(glGetUniformLocation(prog, "light_dir"), float(d.x()), float(d.y()),
-                float(d.z()));
+    glUniform3f(glGetUniformLocation(prog, "light_dir"), float(d.x()), float(d.y()), float(d.z()));
     glUniform1f(glGetUniformLocation(prog, "ambient"), float(o.light.ambient));
     glUniform1f(glGetUniformLocation(prog, "diffuse"), float(o.light.diffuse));
     glUniform3f(glGetUniformLocation(prog, "wire_color"), float(o.wireframe_color[2] / 255),
@@ -191,8 +190,10 @@ struct Renderer::Impl {
     glDepthFunc(GL_LESS);
     glDepthMask(GL_TRUE);
     glFrontFace(GL_CW);  // window y = image row: front faces appear clockwise
-    if (o.cull_back_faces) glEnable(GL_CULL_FACE), glCullFace(GL_BACK);
-    else glDisable(GL_CULL_FACE);
+    if (o.cull_back_faces)
+      glEnable(GL_CULL_FACE), glCullFace(GL_BACK);
+    else
+      glDisable(GL_CULL_FACE);
     glBindVertexArray(g.vao);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, g.tex);
@@ -213,7 +214,6 @@ struct Renderer::Impl {
     }
     glBindVertexArray(0);
   }
-
 };
 
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}

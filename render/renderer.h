@@ -21,8 +21,8 @@ struct Light {
 struct RenderOptions {
   cv::Scalar background{0, 0, 0};  // BGR 0..255
   Light light;
-  bool cull_back_faces = true;  // faces whose outward normal points away from the camera
-  bool wireframe = false;       // draw triangle edges over the surface (figures)
+  bool cull_back_faces = true;             // faces whose outward normal points away from the camera
+  bool wireframe = false;                  // draw triangle edges over the surface (figures)
   cv::Scalar wireframe_color{40, 40, 40};  // BGR 0..255
   bool read_depth = true;  // false: image and mask only, depth_mm left empty (a faster frame)
 };

@@ -15,8 +15,8 @@ cv::Mat procedural_texture(int n) {
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c) {
       const bool dark = ((r * cells / n) + (c * cells / n)) % 2 == 1;
-      hsv.at<cv::Vec3b>(r, c) = cv::Vec3b(uchar(180 * c / n), uchar(80 + 150 * r / n),
-                                          uchar(dark ? 110 : 230));
+      hsv.at<cv::Vec3b>(r, c) =
+          cv::Vec3b(uchar(180 * c / n), uchar(80 + 150 * r / n), uchar(dark ? 110 : 230));
     }
   cv::Mat bgr;
   cv::cvtColor(hsv, bgr, cv::COLOR_HSV2BGR);
@@ -25,8 +25,8 @@ cv::Mat procedural_texture(int n) {
 
 }  // namespace
 
-model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii,
-                            int rings, int segments, int texture_px) {
+model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
+                            int segments, int texture_px) {
   if (rings < 2 || segments < 3)
     throw std::invalid_argument("uv_ellipsoid: need rings >= 2 and segments >= 3, got " +
                                 std::to_string(rings) + ", " + std::to_string(segments));

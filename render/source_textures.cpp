@@ -64,8 +64,8 @@ void upload_lut(const cv::Mat& grid, GLuint& tex) {
 // with comparison at the nearest texel (one fetch: 2x2 PCF cost about 1 ms CPU per 640x480
 // frame on llvmpipe and changed no PSNR on the sim heads or the scan by 0.1 dB), plus its z_cam
 // copy on the CPU. Back faces culled.
-void render_source_depth(const capture::CameraModel& c, const gl::GpuMesh& mesh,
-                         GLuint depth_prog, SourceGl& s) {
+void render_source_depth(const capture::CameraModel& c, const gl::GpuMesh& mesh, GLuint depth_prog,
+                         SourceGl& s) {
   if (!s.zmap) glGenTextures(1, &s.zmap);
   glBindTexture(GL_TEXTURE_2D, s.zmap);
   glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
@@ -92,8 +92,7 @@ void render_source_depth(const capture::CameraModel& c, const gl::GpuMesh& mesh,
     glUniformMatrix4fv(glGetUniformLocation(depth_prog, "clip_from_head"), 1, GL_FALSE,
                        clip.data());
     glUniform4fv(glGetUniformLocation(depth_prog, "zrow"), 1, zrow.data());
-    glUniform2f(glGetUniformLocation(depth_prog, "zrange"), float(s.zrange[0]),
-                float(s.zrange[1]));
+    glUniform2f(glGetUniformLocation(depth_prog, "zrange"), float(s.zrange[0]), float(s.zrange[1]));
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
     glFrontFace(GL_CW);

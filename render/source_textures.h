@@ -17,7 +17,7 @@ namespace orthoface::render::detail {
 // One source camera's textures and CPU copies.
 struct SourceGl {
   GLuint zmap = 0, photo = 0, photo_eq = 0;  // zmap: linear depth texture, compare mode
-  GLuint lut = 0, eq_fbo = 0;                 // equalisation: 3D colour lookup, FBO on photo_eq
+  GLuint lut = 0, eq_fbo = 0;                // equalisation: 3D colour lookup, FBO on photo_eq
   cv::Size photo_size, photo_eq_size;        // allocated sizes of photo, photo_eq
   std::array<double, 2> zrange{0, 0};        // near, far of zmap
   cv::Mat depth;                             // z_cam (mm), CV_32F, +inf where empty

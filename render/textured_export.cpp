@@ -30,8 +30,10 @@ cv::Mat checked_photo(const cv::Mat& photo, const capture::CameraModel& cam,
   if (photo.cols != cam.width || photo.rows != cam.height)
     throw std::invalid_argument("texture export: " + what + " photo size differs from its camera");
   cv::Mat bgr;
-  if (photo.channels() == 1) cv::cvtColor(photo, bgr, cv::COLOR_GRAY2BGR);
-  else bgr = photo;
+  if (photo.channels() == 1)
+    cv::cvtColor(photo, bgr, cv::COLOR_GRAY2BGR);
+  else
+    bgr = photo;
   return bgr;
 }
 
@@ -52,7 +54,8 @@ Prepared prepare(const model::TriMesh& mesh, const capture::RigCalibration& rig,
   for (int i = 0; i < 2; ++i) p.depth[i] = renderer.render(bare, *p.cams[i]).depth_mm;
   p.normals = gl::vertex_normals(mesh);
   p.match = detail::colour_match(mesh.vertices, p.normals, rig, p.depth, raw);
-  for (int i = 0; i < 2; ++i) p.photos[i] = o.equalize ? detail::equalized(raw[i], p.match, i) : raw[i];
+  for (int i = 0; i < 2; ++i)
+    p.photos[i] = o.equalize ? detail::equalized(raw[i], p.match, i) : raw[i];
   return p;
 }
 
@@ -86,8 +89,7 @@ void InheritOptions::check() const {
 }
 
 InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCalibration& rig,
-                              const cv::Mat& front, const cv::Mat& side,
-                              const InheritOptions& o) {
+                              const cv::Mat& front, const cv::Mat& side, const InheritOptions& o) {
   const Prepared p = prepare(mesh, rig, front, side, o);
   InheritedMesh out;
   out.source.resize(mesh.triangles.size());
@@ -109,9 +111,9 @@ InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCali
   int width = patch, height = patch;
   for (int i = 0; i < 2; ++i) {
     if (!used[i]) continue;
-    const cv::Rect r(cv::Point(int(std::floor(lo[i].x())) - pad, int(std::floor(lo[i].y())) - pad),
-                     cv::Point(int(std::ceil(hi[i].x())) + pad + 1,
-                               int(std::ceil(hi[i].y())) + pad + 1));
+    const cv::Rect r(
+        cv::Point(int(std::floor(lo[i].x())) - pad, int(std::floor(lo[i].y())) - pad),
+        cv::Point(int(std::ceil(hi[i].x())) + pad + 1, int(std::ceil(hi[i].y())) + pad + 1));
     crop[i] = r & cv::Rect(0, 0, p.photos[i].cols, p.photos[i].rows);
     width += crop[i].width;
     height = std::max(height, crop[i].height);

@@ -49,15 +49,14 @@ SourceTest source_test(const SampledSource& s, const std::vector<Eigen::Vector3d
   const double z_step = (z.maxCoeff() - z.minCoeff()) / steps;
   for (int a = 0; a <= steps; ++a)
     for (int b = 0; a + b <= steps; ++b) {
-      const Eigen::Vector3d w(double(a) / steps, double(b) / steps,
-                              double(steps - a - b) / steps);
+      const Eigen::Vector3d w(double(a) / steps, double(b) / steps, double(steps - a - b) / steps);
       const double cos_p = w.dot(cosine), z_p = w.dot(z);
       if (cos_p <= 0 || (perspective && !(z_p > 0))) {  // share 0 here
         r.whole = false;
         continue;
       }
-      const Eigen::Vector3d p = w[0] * vertices[t[0]] + w[1] * vertices[t[1]] +
-                                w[2] * vertices[t[2]];
+      const Eigen::Vector3d p =
+          w[0] * vertices[t[0]] + w[1] * vertices[t[1]] + w[2] * vertices[t[2]];
       const Eigen::Vector2d u = detail::undistorted_pixel(c, p);
       const int col = std::clamp(int(std::floor(u.x())), 0, c.width - 1);
       const int row = std::clamp(int(std::floor(u.y())), 0, c.height - 1);
@@ -149,8 +148,9 @@ TriangleOrder order_triangles(const std::vector<std::array<int, 3>>& triangles,
     throw std::invalid_argument("order triangles: facts has " + std::to_string(facts.size()) +
                                 " entries for " + std::to_string(triangles.size()) + " triangles");
   if (!(rule.feather > 0) || !std::isfinite(rule.feather) || !std::isfinite(rule.bias))
-    throw std::invalid_argument("order triangles: rule needs a positive finite feather and a "
-                                "finite bias");
+    throw std::invalid_argument(
+        "order triangles: rule needs a positive finite feather and a "
+        "finite bias");
   std::array<std::vector<std::array<int, 3>>, 4> by_class;
   for (size_t k = 0; k < triangles.size(); ++k) {
     const TriangleFacts& f = facts[k];

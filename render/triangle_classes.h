@@ -28,7 +28,7 @@ struct TriangleSource {
 struct TriangleFacts {
   std::array<bool, 2> whole{};  // the source's share is exactly 1 over the triangle
   bool unoccluded = false;      // no depth map occludes it where a share can be > 0
-  std::array<double, 2> lead{INFINITY, INFINITY};        // min over corners of cos_i - cos_other
+  std::array<double, 2> lead{INFINITY, INFINITY};       // min over corners of cos_i - cos_other
   std::array<double, 2> max_cos{-INFINITY, -INFINITY};  // max over corners of cos_i
 };
 

@@ -12,6 +12,7 @@ packages=(
   assimp-utils
   libcgal-dev  # bench/analysis_bench only: exact geodesics as the accuracy reference
   libdlib-dev libdlib-data  # judge/ only (benchmarks, tests): the real-photo judge
+  clang-format  # scripts/run.sh test: every source as .clang-format says
 )
 
 missing=()

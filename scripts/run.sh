@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # One entry point for set-up, build and the main jobs. Idempotent; run from anywhere.
 #   scripts/run.sh demo       install what is missing, build (Release), run `orthoface demo`
-#   scripts/run.sh test       install what is missing, build (Release), run every test
+#   scripts/run.sh test       install what is missing, check the formatting, build (Release),
+#                             run every test
 #   scripts/run.sh sanitize   the same tests built with AddressSanitizer + UBSan (build-asan/)
 #   scripts/run.sh build      install + build only
 # Release builds treat compiler warnings in our code as errors (ORTHOFACE_STRICT); the sanitizer
@@ -17,6 +18,25 @@ configure_and_build() {  # $1 = build dir, rest = extra cmake args
   local dir="$1"; shift
   cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DORTHOFACE_STRICT=ON "$@" >/dev/null
   cmake --build "$dir" -j "$jobs"
+}
+
+# Every tracked C++ source as .clang-format says (Debian 12's clang-format 14; another version
+# formats a few constructs differently). `clang-format -i FILE` rewrites one as it should be.
+check_format() {
+  local fmt=clang-format-14 files bad=()
+  command -v "$fmt" >/dev/null || fmt=clang-format
+  mapfile -t files < <(git -C "$root" ls-files '*.cpp' '*.h' 2>/dev/null ||
+                       (cd "$root" && find . -path ./build -prune -o -path ./build-asan -prune \
+                          -o \( -name '*.cpp' -o -name '*.h' \) -print))
+  for f in "${files[@]}"; do
+    "$fmt" --dry-run --Werror "$root/$f" >/dev/null 2>&1 || bad+=("$f")
+  done
+  if [ ${#bad[@]} -gt 0 ]; then
+    echo "error: ${#bad[@]} source file(s) differ from .clang-format: ${bad[*]}" >&2
+    echo "       ($fmt -i FILE rewrites one as it should be)" >&2
+    exit 1
+  fi
+  echo "format: ${#files[@]} sources as .clang-format says"
 }
 
 case "$job" in
@@ -35,6 +55,7 @@ case "$job" in
     "$root/build/app/orthoface" demo --out "${ORTHOFACE_DEMO_OUT:-$root/out/demo}" "$@"
     ;;
   test)
+    check_format
     # Tests on explicitly: a demo run before configured build/ without them, and the cache keeps
     # options; ctest fails if it still finds none.
     configure_and_build "$root/build" -DORTHOFACE_BUILD_TESTS=ON -DORTHOFACE_BUILD_BENCH=ON

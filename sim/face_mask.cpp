@@ -30,8 +30,8 @@ bool has_face_landmarks(const Head& head) {
 std::vector<bool> face_vertices(const Head& head) {
   const double y_top = landmark(head, "forehead_top").y();
   const double y_bottom = landmark(head, "chin_bottom").y() - kBelowChinMm;
-  const double z_ears = std::max(landmark(head, "ear_left_tragus").z(),
-                                 landmark(head, "ear_right_tragus").z());
+  const double z_ears =
+      std::max(landmark(head, "ear_left_tragus").z(), landmark(head, "ear_right_tragus").z());
   std::vector<bool> in(head.mesh.vertices.size());
   for (size_t i = 0; i < in.size(); ++i) {
     const Eigen::Vector3d& v = head.mesh.vertices[i];
@@ -40,7 +40,8 @@ std::vector<bool> face_vertices(const Head& head) {
   return in;
 }
 
-cv::Mat face_mask(const Head& head, const capture::CameraModel& camera, render::Renderer& renderer) {
+cv::Mat face_mask(const Head& head, const capture::CameraModel& camera,
+                  render::Renderer& renderer) {
   const std::vector<bool> in = face_vertices(head);
   // The head drawn in two flat colours: white face, black rest; unlit, no texture.
   model::TriMesh m;

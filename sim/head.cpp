@@ -14,8 +14,8 @@ namespace {
 void check_range(const char* name, double v, double lo, double hi) {
   if (!std::isfinite(v) || v < lo || v > hi)
     throw std::invalid_argument("HeadParams: " + std::string(name) + " = " + std::to_string(v) +
-                                " is outside [" + std::to_string(lo) + ", " +
-                                std::to_string(hi) + "]");
+                                " is outside [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                                "]");
 }
 
 }  // namespace
@@ -60,7 +60,8 @@ void HeadOptions::check() const {
     if (rings < 16 || rings > 2000 || segments < 16 || segments > 4000 || segments % 2 != 0)
       throw std::invalid_argument(
           "HeadOptions: rings must be in [16, 2000] and segments an even number in [16, 4000], "
-          "got " + std::to_string(rings) + " x " + std::to_string(segments));
+          "got " +
+          std::to_string(rings) + " x " + std::to_string(segments));
   } else if (target_triangles < 800 || target_triangles > 4000000) {
     throw std::invalid_argument("HeadOptions: target_triangles must be in [800, 4000000], got " +
                                 std::to_string(target_triangles));
@@ -71,8 +72,8 @@ void HeadOptions::check() const {
 }
 
 HeadParams head_params(int seed) {
-  if (seed < 0) throw std::invalid_argument("head_params: seed must be >= 0, got " +
-                                            std::to_string(seed));
+  if (seed < 0)
+    throw std::invalid_argument("head_params: seed must be >= 0, got " + std::to_string(seed));
   HeadParams p;
   if (seed == 0) return p;
   std::mt19937 rng(0x0face + static_cast<unsigned>(seed) * 7919u);

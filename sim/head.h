@@ -15,7 +15,7 @@ namespace orthoface::sim {
 struct Head {
   model::TriMesh mesh;
   std::map<std::string, Eigen::Vector3d> landmarks;
-  std::string name;  // "sim seed N", "Lee Perry-Smith scan", ...
+  std::string name;               // "sim seed N", "Lee Perry-Smith scan", ...
   bool landmarks_picked = false;  // true: picked on a scan by hand / heuristics (a few mm off)
 };
 
@@ -23,31 +23,31 @@ struct Head {
 // tragi, +x subject's left, +y up, +z out of the face), the rest are ratios. Defaults = seed 0,
 // an average adult head. Realistic ranges in the comments; check() allows wider ones.
 struct HeadParams {
-  double head_width = 152;       // max skull breadth (140..165)
-  double head_depth = 195;       // glabella to back of the head (180..210)
-  double head_height = 235;      // vertex (top) to menton (chin bottom) (220..250)
-  double nose_length = 50;       // nasion to subnasale, vertical (44..58)
-  double nose_projection = 20;   // tip in front of the subnasale (15..26)
-  double nose_width = 35;        // alar width (30..42)
-  double mouth_width = 50;       // corner to corner (44..58)
-  double lip_fullness = 1.0;     // lip thickness ratio (0.6..1.5)
-  double chin_projection = 0;    // chin forward (+) / back (-) of average (-6..+6)
-  double chin_height = 45;       // stomion to menton (38..52)
-  double jaw_width = 105;        // bigonial breadth (92..120)
-  double eye_spacing = 63;       // between the eye centres (57..70)
-  double eye_width = 29;         // eye corner to corner (26..32)
-  double brow_ridge = 4;         // brow ridge protrusion (1..8)
-  double ear_height = 0;         // ear shift up (+) / down (-) (-8..+8)
-  double ear_size = 62;          // ear length (54..70)
-  double ear_protrusion = 14;    // how far the ears stand out (8..20)
-  double cheek_fullness = 0.5;   // 0 gaunt .. 1 full
-  double neck_width = 105;       // (92..120)
-  double neck_length = 75;       // menton to the bottom of the neck (60..90)
-  double skin_tone = 0.3;        // 0 very light .. 1 very dark
-  double skin_redness = 0.5;     // 0 olive .. 1 pink
-  double hair_darkness = 0.8;    // 0 blond .. 1 black
+  double head_width = 152;                     // max skull breadth (140..165)
+  double head_depth = 195;                     // glabella to back of the head (180..210)
+  double head_height = 235;                    // vertex (top) to menton (chin bottom) (220..250)
+  double nose_length = 50;                     // nasion to subnasale, vertical (44..58)
+  double nose_projection = 20;                 // tip in front of the subnasale (15..26)
+  double nose_width = 35;                      // alar width (30..42)
+  double mouth_width = 50;                     // corner to corner (44..58)
+  double lip_fullness = 1.0;                   // lip thickness ratio (0.6..1.5)
+  double chin_projection = 0;                  // chin forward (+) / back (-) of average (-6..+6)
+  double chin_height = 45;                     // stomion to menton (38..52)
+  double jaw_width = 105;                      // bigonial breadth (92..120)
+  double eye_spacing = 63;                     // between the eye centres (57..70)
+  double eye_width = 29;                       // eye corner to corner (26..32)
+  double brow_ridge = 4;                       // brow ridge protrusion (1..8)
+  double ear_height = 0;                       // ear shift up (+) / down (-) (-8..+8)
+  double ear_size = 62;                        // ear length (54..70)
+  double ear_protrusion = 14;                  // how far the ears stand out (8..20)
+  double cheek_fullness = 0.5;                 // 0 gaunt .. 1 full
+  double neck_width = 105;                     // (92..120)
+  double neck_length = 75;                     // menton to the bottom of the neck (60..90)
+  double skin_tone = 0.3;                      // 0 very light .. 1 very dark
+  double skin_redness = 0.5;                   // 0 olive .. 1 pink
+  double hair_darkness = 0.8;                  // 0 blond .. 1 black
   Eigen::Vector3d iris_rgb{0.35, 0.22, 0.12};  // RGB in [0, 1]
-  double asymmetry = 0;          // 0 = mirror symmetric; 1 = nose and mouth 3 mm to +x, left eye 2 mm up
+  double asymmetry = 0;  // 0 = mirror symmetric; 1 = nose and mouth 3 mm to +x, left eye 2 mm up
 
   // Throws std::invalid_argument naming the first non-finite or out-of-range field.
   void check() const;

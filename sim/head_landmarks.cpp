@@ -104,7 +104,8 @@ size_t pogonion(const Profile& p, double y_menton, double y_lip_lower) {
     if (p.y[k] > y_top) break;
     if (!p.peak_at(k, win)) continue;
     double z_fold = p.z[k];
-    for (int j = k - 1; j >= std::max(0, k - fold) && p.y[j] <= y_top; --j) z_fold = std::min(z_fold, p.z[j]);
+    for (int j = k - 1; j >= std::max(0, k - fold) && p.y[j] <= y_top; --j)
+      z_fold = std::min(z_fold, p.z[j]);
     if (p.z[k] - z_fold >= 0.3) return size_t(k);
   }
   size_t best = 0;
@@ -142,16 +143,22 @@ std::map<std::string, double> profile_heights(const HeadSurface& s, double theta
   size_t sub = lu;
   bool columella = false;
   for (size_t k = tip + half; k + half < lu; ++k) {
-    const double slope = std::abs((p.z[k - half] - p.z[k + half]) / (p.y[k - half] - p.y[k + half]));
-    if (slope > 2) columella = true;
-    else if (columella) { sub = k; break; }
+    const double slope =
+        std::abs((p.z[k - half] - p.z[k + half]) / (p.y[k - half] - p.y[k + half]));
+    if (slope > 2)
+      columella = true;
+    else if (columella) {
+      sub = k;
+      break;
+    }
   }
   if (sub == lu) {
     const Eigen::Vector2d T(p.z[tip], p.y[tip]), L(p.z[lu], p.y[lu]);
     Eigen::Vector2d nrm(-(L - T).y(), (L - T).x());
     if (nrm.x() > 0) nrm = -nrm;  // toward the inside of the face (smaller z)
     nrm.normalize();
-    sub = p.best(p.y[lu], p.y[tip], [&](double y, double z) { return (Eigen::Vector2d(z, y) - T).dot(nrm); });
+    sub = p.best(p.y[lu], p.y[tip],
+                 [&](double y, double z) { return (Eigen::Vector2d(z, y) - T).dot(nrm); });
   }
   // Chin bottom (gnathion): the chin point projecting furthest 45 degrees below forward;
   // steeper directions would pick the throat, which leans forward under the chin, and so would
@@ -189,7 +196,8 @@ Eigen::Vector3d brow_point(const HeadSurface& surface, int side, double s) {
   const HeadParams& p = surface.params();
   const double xe = side > 0 ? a.x_eye_left : a.x_eye_right;
   const double ye = side > 0 ? a.y_eye_left : a.y_eye_right;
-  const double x_in = std::abs(xe) - p.eye_width / 2 - 1, x_out = std::abs(xe) + p.eye_width / 2 + 5;
+  const double x_in = std::abs(xe) - p.eye_width / 2 - 1,
+               x_out = std::abs(xe) + p.eye_width / 2 + 5;
   const double q = (s - 0.6) / 0.6;
   return {side * (x_in + s * (x_out - x_in)), ye + 13 + 5 * (1 - q * q), 5.5 - 2.5 * s};
 }
@@ -218,7 +226,8 @@ LandmarkParams landmark_params(const HeadSurface& s, const HeadParametrization& 
     put("eye_" + lr + "_inner", front_theta(s, xe - side * p.eye_width / 2, ye), ye);
     put("eye_" + lr + "_outer", front_theta(s, xe + side * p.eye_width / 2, ye), ye);
     const double s_center = (p.eye_width / 2 + 1) / (p.eye_width + 6);
-    const std::pair<const char*, double> brows[] = {{"inner", 0.0}, {"center", s_center}, {"outer", 1.0}};
+    const std::pair<const char*, double> brows[] = {
+        {"inner", 0.0}, {"center", s_center}, {"outer", 1.0}};
     for (const auto& [part, sb] : brows) {
       const Eigen::Vector3d b = brow_point(s, side, sb);
       put("brow_" + lr + "_" + part, front_theta(s, b.x(), b.y()), b.y());

@@ -19,7 +19,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kWarp = 0.6;  // 0: uniform around; 0.6: face columns 2.5x denser than average
 }  // namespace
 
-double HeadParametrization::theta(double u) { return kPi * (2 * u - 1) + kWarp * std::sin(2 * kPi * u); }
+double HeadParametrization::theta(double u) {
+  return kPi * (2 * u - 1) + kWarp * std::sin(2 * kPi * u);
+}
 
 double HeadParametrization::u_of_theta(double th) {
   double lo = 0, hi = 1;  // theta(u) is increasing (kWarp < 1)
@@ -100,8 +102,10 @@ Grid make_grid(const HeadOptions& o, const HeadParametrization& param,
   int rings = o.rings;
   g.segments = o.segments;
   if (rings <= 0) {
-    g.segments = std::max(16, 2 * static_cast<int>(std::lround(std::sqrt(0.6 * o.target_triangles) / 2)));
-    rings = std::max(16, static_cast<int>(std::lround(o.target_triangles / (2.0 * g.segments))) - 1);
+    g.segments =
+        std::max(16, 2 * static_cast<int>(std::lround(std::sqrt(0.6 * o.target_triangles) / 2)));
+    rings =
+        std::max(16, static_cast<int>(std::lround(o.target_triangles / (2.0 * g.segments))) - 1);
   }
   std::map<int, double> anchor = {{0, 0.0}, {rings, 1.0}};  // ring number (1-based) -> t
   for (double y : key_y) {
@@ -111,7 +115,10 @@ Grid make_grid(const HeadOptions& o, const HeadParametrization& param,
   }
   // Drop anchors that would not keep t increasing.
   for (auto it = std::next(anchor.begin()); it != anchor.end();) {
-    if (it->second <= std::prev(it)->second) it = anchor.erase(it); else ++it;
+    if (it->second <= std::prev(it)->second)
+      it = anchor.erase(it);
+    else
+      ++it;
   }
   for (int k = 1; k <= rings; ++k) {
     const auto hi = anchor.lower_bound(k);  // exists: anchor[rings]
@@ -163,7 +170,8 @@ model::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param,
   for (int j = 0; j < n; ++j) m.triangles.push_back({0, vid(g, 0, j), vid(g, 0, j + 1)});
   for (int i = 0; i < rings; ++i)
     for (int j = 0; j < n; ++j) {
-      const int A = vid(g, i, j), B = vid(g, i, j + 1), C = vid(g, i + 1, j + 1), D = vid(g, i + 1, j);
+      const int A = vid(g, i, j), B = vid(g, i, j + 1), C = vid(g, i + 1, j + 1),
+                D = vid(g, i + 1, j);
       if (2 * j < n) {  // diagonals mirror across the midline, so the mesh is symmetric
         m.triangles.push_back({A, D, C});
         m.triangles.push_back({A, C, B});
@@ -172,7 +180,8 @@ model::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param,
         m.triangles.push_back({B, D, C});
       }
     }
-  for (int j = 0; j < n; ++j) m.triangles.push_back({bottom, vid(g, rings, j + 1), vid(g, rings, j)});
+  for (int j = 0; j < n; ++j)
+    m.triangles.push_back({bottom, vid(g, rings, j + 1), vid(g, rings, j)});
   return m;
 }
 
@@ -187,7 +196,8 @@ Eigen::Vector3d mesh_point(const Grid& g, const model::TriMesh& m, double u, dou
   const Eigen::Vector3d& V = m.vertices[0];
   if (i1 == 0) {  // crown fan
     const double f = t / g.ring_t[0];
-    const Eigen::Vector3d q = (1 - fu) * m.vertices[vid(g, 0, j)] + fu * m.vertices[vid(g, 0, j + 1)];
+    const Eigen::Vector3d q =
+        (1 - fu) * m.vertices[vid(g, 0, j)] + fu * m.vertices[vid(g, 0, j + 1)];
     return V + f * (q - V);
   }
   const int i = i1 - 1;
@@ -214,7 +224,8 @@ Head make_head(const HeadParams& params, const HeadOptions& options) {
   Head head;
   head.mesh = grid_mesh(surface, param, grid);
   head.mesh.texture = detail::head_texture(surface, param, options.texture_size);
-  for (const auto& [name, ut] : lp.ut) head.landmarks[name] = mesh_point(grid, head.mesh, ut.x(), ut.y());
+  for (const auto& [name, ut] : lp.ut)
+    head.landmarks[name] = mesh_point(grid, head.mesh, ut.x(), ut.y());
   model::check_mesh(head.mesh, "make_head");
   return head;
 }

@@ -7,7 +7,7 @@ namespace orthoface::sim::detail {
 
 namespace {
 
-constexpr double kUnionPower = 10;  // p-norm union of head and neck sections (smooth max)
+constexpr double kUnionPower = 10;   // p-norm union of head and neck sections (smooth max)
 constexpr double kTableStep = 0.25;  // mm between tabulated section keyframes
 
 double gauss2(double dx, double sx, double dy, double sy) {
@@ -93,8 +93,8 @@ HeadSurface::HeadSurface(const HeadParams& p) : p_(p) {
 
   // Section keyframes from the dome down to the chin: half width, front, back, front exponent.
   const double hw = p.head_width / 2, hd = p.head_depth / 2, jw = p.jaw_width / 2;
-  std::vector<double> key_y = {a.y_dome, a.y_brow, a.y_eye, 0.0, a.y_tip, a.y_sub, a.y_mouth,
-                               a.y_mouth - 12, a.y_chin_start};
+  std::vector<double> key_y = {a.y_dome, a.y_brow,  a.y_eye,        0.0,           a.y_tip,
+                               a.y_sub,  a.y_mouth, a.y_mouth - 12, a.y_chin_start};
   const std::vector<Eigen::Vector4d> key = {{hw, hd - 3, hd, 2.2},
                                             {hw - 1.5, hd - 5.5, hd - 1, 2.3},
                                             {hw - 3.5, hd - 9, hd - 4, 2.45},
@@ -200,7 +200,8 @@ double HeadSurface::mouth_bumps(double x, double y) const {
   const double mask = std::exp(-std::pow(std::abs(xm) / hm, 4));
   const double mask_low = std::exp(-std::pow(std::abs(1.1 * xm) / hm, 4));
   double r = 5.0 * std::exp(-0.5 * xm * xm / (24.0 * 24.0)) *
-             smoothstep(a.y_mouth - 22, a.y_mouth - 10, y) * (1 - smoothstep(a.y_sub - 2, a.y_sub + 6, y));
+             smoothstep(a.y_mouth - 22, a.y_mouth - 10, y) *
+             (1 - smoothstep(a.y_sub - 2, a.y_sub + 6, y));
   r += 3.5 * F * mask * std::exp(-0.5 * std::pow((y - (a.y_mouth + 3.5 * F)) / (2.8 * F), 2));
   r += 4.0 * F * mask_low * std::exp(-0.5 * std::pow((y - (a.y_mouth - 4.5 * F)) / (3.3 * F), 2));
   r -= 2.0 * mask * std::exp(-0.5 * std::pow((y - a.y_mouth) / 1.3, 2));
@@ -217,10 +218,10 @@ double HeadSurface::face_bumps(double x, double y, double front) const {
   for (int k = 0; k < 2; ++k) {
     const double side = k == 0 ? -1 : 1, xe = xs[k], ye = ys[k];
     const double dx = x - xe, dy = y - ye, rr = std::hypot(dx, dy);
-    r -= 8.0 * gauss2(dx, 15, dy - 1, 10);                          // socket
-    r += 6.5 * std::exp(-0.5 * rr * rr / 64.0);                      // eyeball
-    r += 1.2 * std::exp(-0.5 * rr * rr / (4.5 * 4.5));               // cornea
-    r += 1.3 * gauss2(dx, 11, dy - 6, 2.5);                          // upper lid
+    r -= 8.0 * gauss2(dx, 15, dy - 1, 10);              // socket
+    r += 6.5 * std::exp(-0.5 * rr * rr / 64.0);         // eyeball
+    r += 1.2 * std::exp(-0.5 * rr * rr / (4.5 * 4.5));  // cornea
+    r += 1.3 * gauss2(dx, 11, dy - 6, 2.5);             // upper lid
     r += p_.brow_ridge * gauss2(x - side * (std::abs(xe) - 1), 17, y - (ye + 17), 6);
     r += 3.0 * gauss2(x - side * (std::abs(xe) + 20), 12, y - (ye - 16), 8);  // cheekbone
     r += (7.0 * p_.cheek_fullness - 1.5) *

@@ -17,15 +17,15 @@ inline constexpr double kEarTilt = 0.2;  // radians; the top of the ear leans ba
 
 // Heights (y, mm) and positions of the features, derived from HeadParams.
 struct HeadAnchors {
-  double y_top, y_bottom;            // crown, bottom of the neck
-  double y_dome;                     // where the cranial dome starts closing
+  double y_top, y_bottom;  // crown, bottom of the neck
+  double y_dome;           // where the cranial dome starts closing
   double y_nasion, y_eye, y_brow, y_hair;
   double y_tip, y_sub, y_mouth, y_menton, y_chin_start;
-  double x_eye_left, x_eye_right;    // eye centres (x)
-  double y_eye_left, y_eye_right;    // eye centres (y); differ only with asymmetry
-  double x_mid;                      // nose / mouth midline shift (asymmetry)
-  double y_ear_c, z_ear_c;           // ear centre on the side
-  double ear_rz, ear_ry;             // ear half sizes (z, y)
+  double x_eye_left, x_eye_right;  // eye centres (x)
+  double y_eye_left, y_eye_right;  // eye centres (y); differ only with asymmetry
+  double x_mid;                    // nose / mouth midline shift (asymmetry)
+  double y_ear_c, z_ear_c;         // ear centre on the side
+  double ear_rz, ear_ry;           // ear half sizes (z, y)
   double y_tragus, z_tragus;
 };
 

@@ -46,8 +46,8 @@ double inside(double d, double e = 0.35) { return smoothstep(e, -e, d); }
 
 // What varies slowly over the surface, sampled on a coarse (u, t) grid and interpolated.
 struct Sample {
-  Eigen::Vector3d q = Eigen::Vector3d::Zero();    // surface point
-  Eigen::Vector3d ear{10, 0, 0};                  // HeadSurface::ear_coords
+  Eigen::Vector3d q = Eigen::Vector3d::Zero();     // surface point
+  Eigen::Vector3d ear{10, 0, 0};                   // HeadSurface::ear_coords
   Eigen::Vector3d tint = Eigen::Vector3d::Ones();  // skin colour factor
   double ear_w = 0, hair_noise = 0;
   Sample operator*(double w) const { return {q * w, ear * w, tint * w, ear_w * w, hair_noise * w}; }
@@ -88,8 +88,9 @@ struct Painter {
     const double t = std::abs(theta);
     const double ear_top = a.y_ear_c + a.ear_ry;
     const double knots_t[] = {0.0, 0.6, 1.0, 1.2, 1.36, 1.5, 2.0, 2.4, std::numbers::pi};
-    const double knots_y[] = {a.y_hair, a.y_hair - 4, a.y_hair - 12, a.y_brow + 6, a.y_tragus + 6,
-                              ear_top + 4, ear_top + 6, a.y_tragus - 18, a.y_tip - 22};
+    const double knots_y[] = {a.y_hair,     a.y_hair - 4,    a.y_hair - 12,
+                              a.y_brow + 6, a.y_tragus + 6,  ear_top + 4,
+                              ear_top + 6,  a.y_tragus - 18, a.y_tip - 22};
     for (int k = 0; k < 8; ++k)
       if (t <= knots_t[k + 1]) {
         const double f = smoothstep(knots_t[k], knots_t[k + 1], t);
@@ -118,13 +119,14 @@ struct Painter {
     const double k = std::max(0.0, 1 - sx * sx);
     const double yu = ye + 0.18 * p.eye_width * std::pow(k, 0.75);
     const double yl = ye - 0.13 * p.eye_width * std::pow(k, 0.85);
-    c *= 1 - 0.12 * inside(std::abs(y - (yu + 4.5)) - 1.2, 1.0);    // lid crease
+    c *= 1 - 0.12 * inside(std::abs(y - (yu + 4.5)) - 1.2, 1.0);  // lid crease
     const double open = inside(std::abs(sx) - 1, 0.04) * inside(y - yu) * inside(yl - y);
     const double r = std::hypot(x - xe, y - ye), ri = 0.2 * p.eye_width;
     Rgb inner = mix(Rgb(0.93, 0.91, 0.88), Rgb(0.80, 0.70, 0.68), std::pow(std::abs(sx), 4));
     const double streak = 0.15 * std::sin(std::atan2(y - ye, x - xe) * 23);
     const Rgb iris = p.iris_rgb * (0.75 + 0.35 * r / ri + streak);
-    inner = mix(inner, mix(iris, Rgb(0.1, 0.08, 0.07), smoothstep(0.8, 1.0, r / ri)), inside(r - ri));
+    inner =
+        mix(inner, mix(iris, Rgb(0.1, 0.08, 0.07), smoothstep(0.8, 1.0, r / ri)), inside(r - ri));
     inner = mix(inner, Rgb(0.03, 0.03, 0.03), inside(r - 0.42 * ri));
     c = mix(c, inner, open);
     // Lash line along the upper lid, a thin darker line along the lower one.
@@ -152,7 +154,8 @@ struct Painter {
     const double bow = 1.2 * std::exp(-std::pow(xm / 3.0, 2));  // Cupid's bow dip
     const double top = a.y_mouth + (7.0 * F * std::pow(k, 0.5) - bow * std::sqrt(k));
     const double bottom = a.y_mouth - 9.0 * F * std::pow(k, 0.6);
-    const double in = inside(y - top, 0.4) * inside(bottom - y, 0.5) * inside(std::abs(xm) - hm, 0.3);
+    const double in =
+        inside(y - top, 0.4) * inside(bottom - y, 0.5) * inside(std::abs(xm) - hm, 0.3);
     c = mix(c, lip * (0.95 + 0.08 * (y < a.y_mouth)), in);
     const double line = inside(std::abs(y - a.y_mouth) - 0.6 * std::sqrt(k) - 0.25, 0.35) *
                         inside(std::abs(xm) - hm, 0.3);
@@ -173,9 +176,10 @@ struct Painter {
   }
 
   Rgb ear(Rgb c, const Eigen::Vector3d& e) const {
-    c *= 1 - 0.3 * inside(std::abs(e[0] - 1) - 0.04, 0.03);                // outline shadow
-    c *= 1 - 0.3 * inside(std::hypot((e[1] - 0.25) / 0.45, (e[2] + 0.1) / 0.45) - 1, 0.15);  // concha
-    c *= 1 - 0.12 * inside(std::abs(e[0] - 0.68) - 0.05, 0.04);             // helix fold
+    c *= 1 - 0.3 * inside(std::abs(e[0] - 1) - 0.04, 0.03);  // outline shadow
+    c *= 1 -
+         0.3 * inside(std::hypot((e[1] - 0.25) / 0.45, (e[2] + 0.1) / 0.45) - 1, 0.15);  // concha
+    c *= 1 - 0.12 * inside(std::abs(e[0] - 0.68) - 0.05, 0.04);  // helix fold
     return c;
   }
 
@@ -255,10 +259,11 @@ cv::Mat head_texture(const HeadSurface& surface, const HeadParametrization& para
       const Sample s = (grid[k] * (1 - wc) + grid[k + 1] * wc) * (1 - wr) +
                        (grid[k + g + 1] * (1 - wc) + grid[k + g + 2] * wc) * wr;
       const double fine = 0.025 * texel_noise(r * size + c, painter.seed + 5);
-      const Rgb rgb = painter.color(cols[c], Eigen::Vector3d(s.q.x(), y, s.q.z()),
-                                    s, fine, strands[c]);
-      row[c] = cv::Vec3b(static_cast<uchar>(255 * rgb[2] + 0.5), static_cast<uchar>(255 * rgb[1] + 0.5),
-                         static_cast<uchar>(255 * rgb[0] + 0.5));
+      const Rgb rgb =
+          painter.color(cols[c], Eigen::Vector3d(s.q.x(), y, s.q.z()), s, fine, strands[c]);
+      row[c] =
+          cv::Vec3b(static_cast<uchar>(255 * rgb[2] + 0.5), static_cast<uchar>(255 * rgb[1] + 0.5),
+                    static_cast<uchar>(255 * rgb[0] + 0.5));
     }
   }
   return tex;

@@ -96,18 +96,24 @@ bool visible(const model::TriMesh& mesh, const capture::CameraModel& cam, const 
   if (!px.allFinite() || px.x() < 0 || px.y() < 0 || px.x() >= cam.width || px.y() >= cam.height)
     return false;
   if (cam.projection == capture::Projection::Orthographic)
-    return !occluded(mesh, p, -capture::view_direction(cam), std::numeric_limits<double>::infinity());
+    return !occluded(mesh, p, -capture::view_direction(cam),
+                     std::numeric_limits<double>::infinity());
   const Eigen::Vector3d centre = cam.cam_from_head.inverse().translation();
   return !occluded(mesh, p, (centre - p).normalized(), (centre - p).norm());
 }
 
 void add_clutter(cv::Mat& img, cv::RNG& rng) {
   const int w = img.cols, h = img.rows, big = std::max(w, h);
-  auto colour = [&] { return cv::Scalar(rng.uniform(20, 235), rng.uniform(20, 235), rng.uniform(20, 235)); };
-  auto point = [&] { return cv::Point(rng.uniform(-w / 8, w + w / 8), rng.uniform(-h / 8, h + h / 8)); };
+  auto colour = [&] {
+    return cv::Scalar(rng.uniform(20, 235), rng.uniform(20, 235), rng.uniform(20, 235));
+  };
+  auto point = [&] {
+    return cv::Point(rng.uniform(-w / 8, w + w / 8), rng.uniform(-h / 8, h + h / 8));
+  };
   for (int i = 0; i < 14; ++i) {  // shelves, posters, doors
     const cv::Point a = point();
-    const cv::Point b = a + cv::Point(rng.uniform(big / 20, big / 3 + 2), rng.uniform(big / 20, big / 3 + 2));
+    const cv::Point b =
+        a + cv::Point(rng.uniform(big / 20, big / 3 + 2), rng.uniform(big / 20, big / 3 + 2));
     cv::rectangle(img, a, b, colour(), cv::FILLED);
   }
   for (int i = 0; i < 10; ++i)  // lamps, plates, plants
@@ -128,7 +134,8 @@ void RigOptions::check() const {
               " must be within 1..8192 per side");
   require(std::isfinite(px_per_mm) && px_per_mm > 0 && px_per_mm <= 1000,
           "px_per_mm must be in (0, 1000]");
-  require(std::isfinite(focal_px) && focal_px > 0 && focal_px <= 1e6, "focal_px must be in (0, 1e6]");
+  require(std::isfinite(focal_px) && focal_px > 0 && focal_px <= 1e6,
+          "focal_px must be in (0, 1e6]");
   require(std::isfinite(distance_mm) && distance_mm >= 200 && distance_mm <= 1e5,
           "distance_mm must be in [200, 100000] (the camera must stand outside the head)");
   check_pose_error(front_error, "front");

@@ -26,12 +26,12 @@ struct PoseError {
 
 struct RigOptions {
   RigKind kind = RigKind::Ideal;
-  int width = 640, height = 480;  // both images, pixels (1..8192)
-  double px_per_mm = 1.6;         // ideal rig scale
-  double focal_px = 1600;         // perspective: focal length, pixels
-  double distance_mm = 1000;      // perspective: camera centre to head origin
-  PoseError front_error, side_error;  // applied to the TRUE cameras only
-  double ambient = 0.6, diffuse = 0.5;  // render::Light
+  int width = 640, height = 480;                       // both images, pixels (1..8192)
+  double px_per_mm = 1.6;                              // ideal rig scale
+  double focal_px = 1600;                              // perspective: focal length, pixels
+  double distance_mm = 1000;                           // perspective: camera centre to head origin
+  PoseError front_error, side_error;                   // applied to the TRUE cameras only
+  double ambient = 0.6, diffuse = 0.5;                 // render::Light
   Eigen::Vector3d light_direction{0.35, -0.45, -1.0};  // where the light travels, head frame
   double noise_sigma = 0;  // Gaussian sensor noise, grey levels (0..255 scale), per channel
   double blur_sigma = 0;   // Gaussian optical blur, pixels (applied before the noise)
@@ -57,8 +57,8 @@ struct Capture {
                                               // the head lacks the landmarks that bound it
   cv::Mat front_depth_mm, side_depth_mm;      // CV_32F z_cam, +inf off the head
   cv::Mat background_front, background_side;  // the empty scene, own noise draw
-  capture::RigCalibration true_rig;     // the cameras that took the photos (with pose errors)
-  capture::RigCalibration nominal_rig;  // what the station believes (what rig.yaml holds)
+  capture::RigCalibration true_rig;           // the cameras that took the photos (with pose errors)
+  capture::RigCalibration nominal_rig;        // what the station believes (what rig.yaml holds)
   std::map<std::string, LandmarkTruth> landmarks;  // as in head.landmarks
 };
 

@@ -47,8 +47,10 @@ std::vector<Eigen::Vector2d> midline_profile(const model::TriMesh& m) {
     for (int k = 0; k < 3 && n_ends < 2; ++k) {
       const Eigen::Vector3d& a = m.vertices[t[k]];
       const Eigen::Vector3d& b = m.vertices[t[(k + 1) % 3]];
-      if (a.x() == 0) ends[n_ends++] = a;
-      else if ((a.x() < 0) != (b.x() < 0) && b.x() != 0) ends[n_ends++] = a + (b - a) * (a.x() / (a.x() - b.x()));
+      if (a.x() == 0)
+        ends[n_ends++] = a;
+      else if ((a.x() < 0) != (b.x() < 0) && b.x() != 0)
+        ends[n_ends++] = a + (b - a) * (a.x() / (a.x() - b.x()));
     }
     if (n_ends < 2) continue;
     const Eigen::Vector3d &p = ends[0], &q = ends[1];
@@ -64,8 +66,8 @@ std::vector<Eigen::Vector2d> midline_profile(const model::TriMesh& m) {
 using Profile = std::vector<Eigen::Vector2d>;
 
 // Index of the profile sample maximising score over heights [y_lo, y_hi]; throws if none.
-size_t best(const Profile& p, double y_lo, double y_hi, const std::function<double(const Eigen::Vector2d&)>& score,
-            const char* what) {
+size_t best(const Profile& p, double y_lo, double y_hi,
+            const std::function<double(const Eigen::Vector2d&)>& score, const char* what) {
   size_t arg = p.size();
   double top = -std::numeric_limits<double>::infinity();
   for (size_t k = 0; k < p.size(); ++k)
@@ -73,13 +75,15 @@ size_t best(const Profile& p, double y_lo, double y_hi, const std::function<doub
       top = score(p[k]);
       arg = k;
     }
-  if (arg == p.size()) throw std::runtime_error(std::string("scan_profile_landmarks: no profile for ") + what);
+  if (arg == p.size())
+    throw std::runtime_error(std::string("scan_profile_landmarks: no profile for ") + what);
   return arg;
 }
 
 // First sample below index `from` with height in [y_hi >= y >= y_lo] whose z is the maximum
 // within +-window mm (a local peak of the profile); throws if there is none.
-size_t next_peak(const Profile& p, size_t from, double y_hi, double y_lo, double window, const char* what) {
+size_t next_peak(const Profile& p, size_t from, double y_hi, double y_lo, double window,
+                 const char* what) {
   for (size_t k = from + 1; k < p.size(); ++k) {
     if (p[k].x() > y_hi) continue;
     if (p[k].x() < y_lo) break;
@@ -135,13 +139,12 @@ struct Pick {
   double col, row;
 };
 constexpr Pick kLeePerrySmithPicks[] = {
-    {"eye_right_inner", 464, 302},  {"eye_right_outer", 406, 305},
-    {"eye_left_inner", 558, 302},   {"eye_left_outer", 620, 305},
-    {"brow_right_inner", 468, 269}, {"brow_right_center", 428, 263}, {"brow_right_outer", 385, 276},
-    {"brow_left_inner", 531, 267},  {"brow_left_center", 585, 261},  {"brow_left_outer", 635, 276},
-    {"mouth_right", 450, 472},      {"mouth_left", 570, 473},        {"alar_right", 470, 410},
-    {"alar_left", 543, 407},        {"ear_right_top", 238, 320},     {"ear_left_top", 790, 320},
-    {"ear_right_tragus", 290, 404}, {"ear_left_tragus", 740, 404}};
+    {"eye_right_inner", 464, 302},  {"eye_right_outer", 406, 305},  {"eye_left_inner", 558, 302},
+    {"eye_left_outer", 620, 305},   {"brow_right_inner", 468, 269}, {"brow_right_center", 428, 263},
+    {"brow_right_outer", 385, 276}, {"brow_left_inner", 531, 267},  {"brow_left_center", 585, 261},
+    {"brow_left_outer", 635, 276},  {"mouth_right", 450, 472},      {"mouth_left", 570, 473},
+    {"alar_right", 470, 410},       {"alar_left", 543, 407},        {"ear_right_top", 238, 320},
+    {"ear_left_top", 790, 320},     {"ear_right_tragus", 290, 404}, {"ear_left_tragus", 740, 404}};
 
 }  // namespace
 
@@ -154,7 +157,8 @@ void ScanOptions::check() const {
 
 std::map<std::string, Eigen::Vector3d> scan_profile_landmarks(const model::TriMesh& mesh) {
   const Profile p = midline_profile(mesh);
-  if (p.size() < 100) throw std::runtime_error("scan_profile_landmarks: the mesh does not cross x = 0");
+  if (p.size() < 100)
+    throw std::runtime_error("scan_profile_landmarks: the mesh does not cross x = 0");
   const double top = p.front().x();
   auto z = [](const Eigen::Vector2d& s) { return s.y(); };
   auto neg_z = [](const Eigen::Vector2d& s) { return -s.y(); };
@@ -167,16 +171,19 @@ std::map<std::string, Eigen::Vector3d> scan_profile_landmarks(const model::TriMe
   const size_t chin = next_peak(p, ll, p[ll].x() - 8, p[ll].x() - 55, 8.0, "the chin");
   const Eigen::Vector2d T = p[tip], L = p[lu];
   Eigen::Vector2d nrm(-(L - T).y(), (L - T).x());  // in (y, z): perpendicular to the chord
-  if (nrm.y() > 0) nrm = -nrm;                      // toward the inside of the face (smaller z)
+  if (nrm.y() > 0) nrm = -nrm;                     // toward the inside of the face (smaller z)
   nrm.normalize();
-  const size_t sub = best(p, L.x(), T.x(), [&](const Eigen::Vector2d& s) { return (s - T).dot(nrm); }, "the subnasale");
-  const size_t cb = best(p, p[chin].x() - 35, p[chin].x(), [](const Eigen::Vector2d& s) { return s.y() - s.x(); }, "the chin bottom");
+  const size_t sub = best(
+      p, L.x(), T.x(), [&](const Eigen::Vector2d& s) { return (s - T).dot(nrm); }, "the subnasale");
+  const size_t cb = best(
+      p, p[chin].x() - 35, p[chin].x(), [](const Eigen::Vector2d& s) { return s.y() - s.x(); },
+      "the chin bottom");
   const double y_fh = p[bridge].x() + 65;
   const size_t fh = best(p, y_fh - 0.5, y_fh + 0.5, z, "the forehead");
-  return {{"nose_tip", on_midline(p[tip])},     {"nose_bridge", on_midline(p[bridge])},
-          {"lip_upper", on_midline(p[lu])},     {"lip_lower", on_midline(p[ll])},
-          {"chin", on_midline(p[chin])},        {"subnasale", on_midline(p[sub])},
-          {"chin_bottom", on_midline(p[cb])},   {"forehead_top", on_midline(p[fh])}};
+  return {{"nose_tip", on_midline(p[tip])},   {"nose_bridge", on_midline(p[bridge])},
+          {"lip_upper", on_midline(p[lu])},   {"lip_lower", on_midline(p[ll])},
+          {"chin", on_midline(p[chin])},      {"subnasale", on_midline(p[sub])},
+          {"chin_bottom", on_midline(p[cb])}, {"forehead_top", on_midline(p[fh])}};
 }
 
 std::optional<Eigen::Vector3d> point_at_uv(const model::TriMesh& m, const Eigen::Vector2d& uv) {
@@ -222,8 +229,9 @@ Head load_scan(const std::string& path, const ScanOptions& options) {
   for (auto& p : v) p *= scale;
   const double y0 = top * scale - kTopToTragusMm;
   const auto e = silhouette_extremes(head.mesh, y0);
-  if (!e) throw std::runtime_error(path + ": the scan is shorter than a head (" +
-                                   std::to_string((top - bottom) * scale) + " mm)");
+  if (!e)
+    throw std::runtime_error(path + ": the scan is shorter than a head (" +
+                             std::to_string((top - bottom) * scale) + " mm)");
   const Eigen::Vector3d origin(0.5 * (e->min_x + e->max_x), y0, 0.5 * (e->min_z + e->max_z));
   for (auto& p : v) p -= origin;
   head.landmarks = scan_profile_landmarks(head.mesh);
@@ -247,22 +255,28 @@ Head lee_perry_smith_head(const std::string& data_dir) {
   for (const Pick& pk : kLeePerrySmithPicks) {
     const Eigen::Vector2d uv((pk.col + 0.5) / w, 1 - (pk.row + 0.5) / h);
     const auto p = point_at_uv(head.mesh, uv);
-    if (!p) throw std::runtime_error(data_dir + ": picked landmark " + pk.name + " is off the texture map");
+    if (!p)
+      throw std::runtime_error(data_dir + ": picked landmark " + pk.name +
+                               " is off the texture map");
     head.landmarks[pk.name] = *p;
   }
   for (const char* side : {"left", "right"}) {
     const std::string e = std::string("eye_") + side;
-    const Eigen::Vector3d mid = 0.5 * (head.landmarks.at(e + "_inner") + head.landmarks.at(e + "_outer"));
+    const Eigen::Vector3d mid =
+        0.5 * (head.landmarks.at(e + "_inner") + head.landmarks.at(e + "_outer"));
     const auto p = front_point(head.mesh, mid.x(), mid.y());
     if (!p) throw std::runtime_error(data_dir + ": no surface in front of the " + side + " eye");
     head.landmarks[e + "_center"] = *p;
   }
   // Cheeks: widest face points at nose-tip height, 12 mm or more in front of the tragus.
   const double y_tip = head.landmarks.at("nose_tip").y();
-  head.landmarks["cheek_left"] = widest_point(head.mesh, y_tip, head.landmarks.at("ear_left_tragus").z() + 12, 1);
-  head.landmarks["cheek_right"] = widest_point(head.mesh, y_tip, head.landmarks.at("ear_right_tragus").z() + 12, -1);
+  head.landmarks["cheek_left"] =
+      widest_point(head.mesh, y_tip, head.landmarks.at("ear_left_tragus").z() + 12, 1);
+  head.landmarks["cheek_right"] =
+      widest_point(head.mesh, y_tip, head.landmarks.at("ear_right_tragus").z() + 12, -1);
   // With the tragi picked, put the origin exactly between them (DESIGN.md head frame).
-  const Eigen::Vector3d mid = 0.5 * (head.landmarks.at("ear_left_tragus") + head.landmarks.at("ear_right_tragus"));
+  const Eigen::Vector3d mid =
+      0.5 * (head.landmarks.at("ear_left_tragus") + head.landmarks.at("ear_right_tragus"));
   const Eigen::Vector3d shift(0, mid.y(), mid.z());  // keep x = 0 on the midline profile
   for (auto& v : head.mesh.vertices) v -= shift;
   for (auto& [name, p] : head.landmarks) p -= shift;

@@ -51,7 +51,8 @@ std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, in
 
 class SimCamera : public capture::Camera {
  public:
-  SimCamera(std::string id, const SimCameraOptions& o) : id_(std::move(id)), o_(o), rng_(o.subject) {
+  SimCamera(std::string id, const SimCameraOptions& o)
+      : id_(std::move(id)), o_(o), rng_(o.subject) {
     if (o_.phase_s < 0) o_.phase_s = o_.side ? 0.007 : 0.0;
   }
   std::string name() const override { return id_; }
@@ -68,8 +69,7 @@ class SimCamera : public capture::Camera {
                  f.height == format.height && (format.fps <= 0 || f.fps == format.fps);
     if (!offered)
       throw std::runtime_error("camera " + id_ + ": does not offer " + format.fourcc + " " +
-                               std::to_string(format.width) + "x" +
-                               std::to_string(format.height));
+                               std::to_string(format.width) + "x" + std::to_string(format.height));
     loop_ = render_loop(o_, format.width, format.height);
     period_ = 1.0 / (format.fps > 0 ? format.fps : 30.0);
     k_ = static_cast<std::uint64_t>(std::ceil((capture::monotonic_now_s() - o_.phase_s) / period_));
@@ -119,8 +119,8 @@ void SimCameraOptions::check() const {
 
 std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options) {
   options.check();
-  const std::string id = "sim:" + std::to_string(options.subject) +
-                         (options.side ? "/side" : "/front");
+  const std::string id =
+      "sim:" + std::to_string(options.subject) + (options.side ? "/side" : "/front");
   return std::make_unique<SimCamera>(id, options);
 }
 
@@ -139,18 +139,18 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
 
 void register_sim_cameras() {
   capture::register_camera_backend(
-      "sim:", {[](const std::string& id) { return open_sim_camera(id); },
-               [] {
-                 std::vector<capture::DeviceInfo> out;
-                 for (const char* view : {"front", "side"}) {
-                   auto cam = open_sim_camera(std::string("sim:0/") + view);
-                   out.push_back({cam->name(),
-                                  std::string("simulated rig, subject N (any), ") + view +
-                                      " camera",
-                                  cam->formats()});
-                 }
-                 return out;
-               }});
+      "sim:",
+      {[](const std::string& id) { return open_sim_camera(id); },
+       [] {
+         std::vector<capture::DeviceInfo> out;
+         for (const char* view : {"front", "side"}) {
+           auto cam = open_sim_camera(std::string("sim:0/") + view);
+           out.push_back({cam->name(),
+                          std::string("simulated rig, subject N (any), ") + view + " camera",
+                          cam->formats()});
+         }
+         return out;
+       }});
 }
 
 }  // namespace orthoface::sim

@@ -11,11 +11,11 @@ namespace orthoface::sim {
 // turning its head by +-motion_deg over a loop of cycle_frames frames.
 struct SimCameraOptions {
   int subject = 0;
-  bool side = false;          // false: front camera, true: side camera
-  int cycle_frames = 12;      // distinct poses rendered at start (then repeated)
-  double motion_deg = 3;      // head yaw amplitude of the loop
-  double phase_s = -1;        // frame clock offset; < 0: 0 for front, 7 ms for side
-  double jitter_s = 0.0005;   // uniform timestamp jitter (+-), like a USB camera's
+  bool side = false;         // false: front camera, true: side camera
+  int cycle_frames = 12;     // distinct poses rendered at start (then repeated)
+  double motion_deg = 3;     // head yaw amplitude of the loop
+  double phase_s = -1;       // frame clock offset; < 0: 0 for front, 7 ms for side
+  double jitter_s = 0.0005;  // uniform timestamp jitter (+-), like a USB camera's
   // Throws std::invalid_argument naming the first bad field.
   void check() const;
 };

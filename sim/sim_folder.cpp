@@ -50,7 +50,8 @@ class Staging {
     for (const auto& name : names_) {
       std::error_code ec;
       fs::rename(tmp(name), dir_ / name, ec);
-      if (ec) throw std::runtime_error("cannot write " + (dir_ / name).string() + ": " + ec.message());
+      if (ec)
+        throw std::runtime_error("cannot write " + (dir_ / name).string() + ": " + ec.message());
     }
     names_.clear();
   }

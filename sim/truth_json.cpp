@@ -65,7 +65,9 @@ struct Reader {
   }
 };
 
-json to_json(const Eigen::VectorXd& v) { return json(std::vector<double>(v.data(), v.data() + v.size())); }
+json to_json(const Eigen::VectorXd& v) {
+  return json(std::vector<double>(v.data(), v.data() + v.size()));
+}
 
 json camera_json(const capture::CameraModel& c) {
   json k = {{c.fx, 0.0, c.cx}, {0.0, c.fy, c.cy}, {0.0, 0.0, 1.0}};
@@ -74,10 +76,13 @@ json camera_json(const capture::CameraModel& c) {
   for (int r = 0; r < 4; ++r) pose.push_back(to_json(m.row(r).transpose()));
   std::vector<double> d = c.distortion;
   d.resize(std::max<size_t>(d.size(), 5), 0.0);
-  return {{"projection", c.projection == capture::Projection::Orthographic ? "orthographic"
-                                                                              : "perspective"},
-          {"width", c.width}, {"height", c.height}, {"camera_matrix", k},
-          {"distortion", d}, {"cam_from_head", pose}};
+  return {{"projection",
+           c.projection == capture::Projection::Orthographic ? "orthographic" : "perspective"},
+          {"width", c.width},
+          {"height", c.height},
+          {"camera_matrix", k},
+          {"distortion", d},
+          {"cam_from_head", pose}};
 }
 
 capture::CameraModel read_camera(const Reader& rd, const json& j, const std::string& field) {
@@ -85,8 +90,8 @@ capture::CameraModel read_camera(const Reader& rd, const json& j, const std::str
   const std::string proj = rd.text(j, "projection", field + ".projection");
   if (proj != "orthographic" && proj != "perspective")
     rd.fail(field + ".projection", "expected orthographic or perspective");
-  c.projection = proj == "orthographic" ? capture::Projection::Orthographic
-                                        : capture::Projection::Perspective;
+  c.projection =
+      proj == "orthographic" ? capture::Projection::Orthographic : capture::Projection::Perspective;
   c.width = static_cast<int>(rd.num(j, "width", field + ".width"));
   c.height = static_cast<int>(rd.num(j, "height", field + ".height"));
   const Eigen::MatrixXd k = rd.mat(j, "camera_matrix", field + ".camera_matrix", 3, 3);
@@ -98,19 +103,23 @@ capture::CameraModel read_camera(const Reader& rd, const json& j, const std::str
 }
 
 json rig_json(const capture::RigCalibration& rig) {
-  return {{"front", camera_json(rig.front)}, {"side", camera_json(rig.side)}, {"source", rig.source}};
+  return {
+      {"front", camera_json(rig.front)}, {"side", camera_json(rig.side)}, {"source", rig.source}};
 }
 
 capture::RigCalibration read_rig_json(const Reader& rd, const json& j, const std::string& field) {
   capture::RigCalibration rig;
   rig.front = read_camera(rd, rd.at(j, "front", field + ".front"), field + ".front");
   rig.side = read_camera(rd, rd.at(j, "side", field + ".side"), field + ".side");
-  rig.source = j.contains("source") && j["source"].is_string() ? j["source"].get<std::string>() : "";
+  rig.source =
+      j.contains("source") && j["source"].is_string() ? j["source"].get<std::string>() : "";
   return rig;
 }
 
 json pose_json(const PoseError& e) {
-  return {{"roll_deg", e.roll_deg}, {"yaw_deg", e.yaw_deg}, {"pitch_deg", e.pitch_deg},
+  return {{"roll_deg", e.roll_deg},
+          {"yaw_deg", e.yaw_deg},
+          {"pitch_deg", e.pitch_deg},
           {"offset_mm", to_json(e.offset_mm)}};
 }
 
@@ -125,10 +134,15 @@ PoseError read_pose(const Reader& rd, const json& j, const std::string& field) {
 
 json options_json(const RigOptions& o) {
   return {{"rig", o.kind == RigKind::Ideal ? "ideal" : "perspective"},
-          {"px_per_mm", o.px_per_mm}, {"focal_px", o.focal_px}, {"distance_mm", o.distance_mm},
-          {"front_error", pose_json(o.front_error)}, {"side_error", pose_json(o.side_error)},
-          {"ambient", o.ambient}, {"diffuse", o.diffuse},
-          {"light_direction", to_json(o.light_direction)}, {"noise_sigma", o.noise_sigma},
+          {"px_per_mm", o.px_per_mm},
+          {"focal_px", o.focal_px},
+          {"distance_mm", o.distance_mm},
+          {"front_error", pose_json(o.front_error)},
+          {"side_error", pose_json(o.side_error)},
+          {"ambient", o.ambient},
+          {"diffuse", o.diffuse},
+          {"light_direction", to_json(o.light_direction)},
+          {"noise_sigma", o.noise_sigma},
           {"blur_sigma", o.blur_sigma},
           {"background", o.background == BackgroundKind::Plain ? "plain" : "cluttered"},
           {"background_bgr", {o.background_bgr[0], o.background_bgr[1], o.background_bgr[2]}}};
@@ -137,12 +151,14 @@ json options_json(const RigOptions& o) {
 RigOptions read_options(const Reader& rd, const json& j) {
   RigOptions o;
   const std::string kind = rd.text(j, "rig", "options.rig");
-  if (kind != "ideal" && kind != "perspective") rd.fail("options.rig", "expected ideal or perspective");
+  if (kind != "ideal" && kind != "perspective")
+    rd.fail("options.rig", "expected ideal or perspective");
   o.kind = kind == "ideal" ? RigKind::Ideal : RigKind::Perspective;
   o.px_per_mm = rd.num(j, "px_per_mm", "options.px_per_mm");
   o.focal_px = rd.num(j, "focal_px", "options.focal_px");
   o.distance_mm = rd.num(j, "distance_mm", "options.distance_mm");
-  o.front_error = read_pose(rd, rd.at(j, "front_error", "options.front_error"), "options.front_error");
+  o.front_error =
+      read_pose(rd, rd.at(j, "front_error", "options.front_error"), "options.front_error");
   o.side_error = read_pose(rd, rd.at(j, "side_error", "options.side_error"), "options.side_error");
   o.ambient = rd.num(j, "ambient", "options.ambient");
   o.diffuse = rd.num(j, "diffuse", "options.diffuse");
@@ -150,7 +166,8 @@ RigOptions read_options(const Reader& rd, const json& j) {
   o.noise_sigma = rd.num(j, "noise_sigma", "options.noise_sigma");
   o.blur_sigma = rd.num(j, "blur_sigma", "options.blur_sigma");
   const std::string bg = rd.text(j, "background", "options.background");
-  if (bg != "plain" && bg != "cluttered") rd.fail("options.background", "expected plain or cluttered");
+  if (bg != "plain" && bg != "cluttered")
+    rd.fail("options.background", "expected plain or cluttered");
   o.background = bg == "plain" ? BackgroundKind::Plain : BackgroundKind::Cluttered;
   const Eigen::VectorXd c = rd.vec(j, "background_bgr", "options.background_bgr", 3);
   o.background_bgr = cv::Scalar(c[0], c[1], c[2]);
@@ -158,8 +175,10 @@ RigOptions read_options(const Reader& rd, const json& j) {
 }
 
 json landmark_json(const LandmarkTruth& t) {
-  return {{"xyz_mm", to_json(t.xyz_mm)}, {"front_px", to_json(t.front_px)},
-          {"side_px", to_json(t.side_px)}, {"visible_front", t.visible_front},
+  return {{"xyz_mm", to_json(t.xyz_mm)},
+          {"front_px", to_json(t.front_px)},
+          {"side_px", to_json(t.side_px)},
+          {"visible_front", t.visible_front},
           {"visible_side", t.visible_side}};
 }
 
@@ -217,13 +236,17 @@ void write_truth_json(const Truth& truth, const std::string& path) {
     lm[name]["front_px"] = px_json(t.front_px);
     lm[name]["side_px"] = px_json(t.side_px);
   }
-  const json j = {{"format", "orthoface-truth"}, {"version", 1}, {"subject", truth.subject},
-                  {"seed", truth.options.seed}, {"mesh", truth.mesh_file},
-                  {"image_size", {truth.options.width, truth.options.height}},
-                  {"units", "mm (head frame, DESIGN.md); px (origin top-left, pixel centre = index + 0.5)"},
-                  {"options", options_json(truth.options)},
-                  {"cameras", {{"true", rig_json(truth.true_rig)}, {"nominal", rig_json(truth.nominal_rig)}}},
-                  {"landmarks", lm}};
+  const json j = {
+      {"format", "orthoface-truth"},
+      {"version", 1},
+      {"subject", truth.subject},
+      {"seed", truth.options.seed},
+      {"mesh", truth.mesh_file},
+      {"image_size", {truth.options.width, truth.options.height}},
+      {"units", "mm (head frame, DESIGN.md); px (origin top-left, pixel centre = index + 0.5)"},
+      {"options", options_json(truth.options)},
+      {"cameras", {{"true", rig_json(truth.true_rig)}, {"nominal", rig_json(truth.nominal_rig)}}},
+      {"landmarks", lm}};
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp);
@@ -246,7 +269,8 @@ Truth read_truth_json(const std::string& path) {
     throw std::runtime_error("truth file " + path + ": cannot be opened");
   const json j = json::parse(f, nullptr, false);
   if (j.is_discarded()) throw std::runtime_error("truth file " + path + ": not valid JSON");
-  if (rd.text(j, "format", "format") != "orthoface-truth") rd.fail("format", "expected orthoface-truth");
+  if (rd.text(j, "format", "format") != "orthoface-truth")
+    rd.fail("format", "expected orthoface-truth");
   if (rd.num(j, "version", "version") != 1) rd.fail("version", "only version 1 is known");
   Truth t;
   t.subject = rd.text(j, "subject", "subject");
@@ -274,9 +298,11 @@ Truth read_truth_json(const std::string& path) {
     lt.xyz_mm = rd.vec(v, "xyz_mm", field + ".xyz_mm", 3);
     const double nan = std::numeric_limits<double>::quiet_NaN();
     lt.front_px = v.contains("front_px") && v["front_px"].is_null()
-                      ? Eigen::Vector2d(nan, nan) : Eigen::Vector2d(rd.vec(v, "front_px", field + ".front_px", 2));
+                      ? Eigen::Vector2d(nan, nan)
+                      : Eigen::Vector2d(rd.vec(v, "front_px", field + ".front_px", 2));
     lt.side_px = v.contains("side_px") && v["side_px"].is_null()
-                     ? Eigen::Vector2d(nan, nan) : Eigen::Vector2d(rd.vec(v, "side_px", field + ".side_px", 2));
+                     ? Eigen::Vector2d(nan, nan)
+                     : Eigen::Vector2d(rd.vec(v, "side_px", field + ".side_px", 2));
     lt.visible_front = rd.flag(v, "visible_front", field + ".visible_front");
     lt.visible_side = rd.flag(v, "visible_side", field + ".visible_side");
     t.landmarks[name] = lt;

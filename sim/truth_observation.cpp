@@ -59,8 +59,10 @@ vision::FaceObservation truth_observation(const Capture& capture) {
   // Centre line x = a + b (y - y0) fitted through the visible midline landmarks.
   std::vector<cv::Point2d> mid;
   for (const auto& [name, t] : capture.landmarks) {
-    if (t.visible_front) o.front.features[name] = {{t.front_px.x(), t.front_px.y()}, 1.0, "truth", false};
-    if (t.visible_side) o.side.features[name] = {{t.side_px.x(), t.side_px.y()}, 1.0, "truth", false};
+    if (t.visible_front)
+      o.front.features[name] = {{t.front_px.x(), t.front_px.y()}, 1.0, "truth", false};
+    if (t.visible_side)
+      o.side.features[name] = {{t.side_px.x(), t.side_px.y()}, 1.0, "truth", false};
     if (t.visible_front && vision::is_landmark_name(name) && vision::mirrored_name(name) == name)
       mid.emplace_back(t.front_px.x(), t.front_px.y());
   }

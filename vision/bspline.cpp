@@ -71,8 +71,10 @@ void banded_solve(const std::vector<std::array<double, kBand>>& l, std::vector<d
 
 void require_control(const BSpline2d& s, const char* fn) {
   if (s.control.size() < 4)
-    throw std::invalid_argument(std::string(fn) + ": a cubic B-spline needs at least 4 control "
-                                "points, got " + std::to_string(s.control.size()));
+    throw std::invalid_argument(std::string(fn) +
+                                ": a cubic B-spline needs at least 4 control "
+                                "points, got " +
+                                std::to_string(s.control.size()));
 }
 
 }  // namespace

@@ -50,11 +50,11 @@ std::vector<cv::Point2d> front_chain(const cv::Mat& mask, int stop_row) {
   const cv::Rect box = cv::boundingRect(mask);  // contours of the blob's box only
   if (box.empty()) return {};
   std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(mask(box).clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE,
-                   box.tl());
+  cv::findContours(mask(box).clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE, box.tl());
   if (contours.empty()) return {};
-  const auto& c = *std::max_element(contours.begin(), contours.end(),
-                                    [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  const auto& c =
+      *std::max_element(contours.begin(), contours.end(),
+                        [](const auto& a, const auto& b) { return a.size() < b.size(); });
   const int n = int(c.size());
   if (n < 10) return {};
   // Top-most point; among equals the left-most, so the walk starts at the crown's front.
@@ -125,7 +125,9 @@ double neck_offset(const RowExtent& e, double h) {
 
 double head_width(const RowExtent& e, bool stop_at_widening) {
   if (e.top < 0) return 0;
-  const auto width = [&](int r) { return e.left[r] >= 0 ? double(e.right[r] - e.left[r] + 1) : 0.0; };
+  const auto width = [&](int r) {
+    return e.left[r] >= 0 ? double(e.right[r] - e.left[r] + 1) : 0.0;
+  };
   double widest = 0;  // of the whole blob: a hair tuft on top is far narrower
   for (int r = e.top; r <= e.bottom; ++r) widest = std::max(widest, width(r));
   std::vector<double> m{0.0};  // m[i]: widest row among the first i rows

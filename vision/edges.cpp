@@ -64,8 +64,8 @@ EdgeImage edge_image(const cv::Mat& image, const EdgeOptions& options, const cv:
   cv::Sobel(f, e.gx, CV_32F, 1, 0, 3, 0.125);
   cv::Sobel(f, e.gy, CV_32F, 0, 1, 3, 0.125);
   cv::magnitude(e.gx, e.gy, e.magnitude);
-  e.threshold = options.threshold_fraction *
-                high_percentile(e.magnitude, long(image.total() - roi.area()));
+  e.threshold =
+      options.threshold_fraction * high_percentile(e.magnitude, long(image.total() - roi.area()));
   cv::compare(e.magnitude, e.threshold, e.edges, cv::CMP_GT);
   return e;
 }

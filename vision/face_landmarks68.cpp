@@ -128,7 +128,8 @@ struct FaceLandmarker68::Net {
   Map block(const Map& x, const std::string& b, bool first) const {
     auto sep = [&](const Map& in, int k, int stride) {
       const std::string p = b + "/conv" + std::to_string(k) + "/";
-      return separable(in, t(p + "depthwise_filter"), t(p + "pointwise_filter"), t(p + "bias"), stride);
+      return separable(in, t(p + "depthwise_filter"), t(p + "pointwise_filter"), t(p + "bias"),
+                       stride);
     };
     Map out1 = first ? conv3x3(x, t(b + "/conv0/filters"), t(b + "/conv0/bias"), 2) : sep(x, 0, 2);
     relu(out1);
@@ -182,7 +183,8 @@ FaceLandmarker68::FaceLandmarker68(const std::string& model_dir) : net_(std::mak
   try {
     manifest = nlohmann::json::parse(mf);
   } catch (const std::exception& e) {
-    throw std::runtime_error("face landmarks: " + manifest_path.string() + " is not JSON: " + e.what());
+    throw std::runtime_error("face landmarks: " + manifest_path.string() +
+                             " is not JSON: " + e.what());
   }
   // tfjs layers format: weights in manifest order, each 8-bit quantised (value = q * scale + min)
   // or float32.
@@ -192,7 +194,8 @@ FaceLandmarker68::FaceLandmarker68(const std::string& model_dir) : net_(std::mak
       for (const auto& entry : group.at("weights")) {
         Tensor t;
         size_t n = 1;
-        for (const auto& d : entry.at("shape")) t.shape.push_back(d.get<int>()), n *= size_t(t.shape.back());
+        for (const auto& d : entry.at("shape"))
+          t.shape.push_back(d.get<int>()), n *= size_t(t.shape.back());
         t.v.resize(n);
         if (entry.contains("quantization")) {
           const auto& q = entry.at("quantization");
@@ -229,7 +232,8 @@ FaceLandmarker68::~FaceLandmarker68() = default;
 FaceLandmarker68::FaceLandmarker68(FaceLandmarker68&&) noexcept = default;
 FaceLandmarker68& FaceLandmarker68::operator=(FaceLandmarker68&&) noexcept = default;
 
-std::array<cv::Point2d, 68> FaceLandmarker68::in_crop(const cv::Mat& bgr, const cv::Rect2d& crop) const {
+std::array<cv::Point2d, 68> FaceLandmarker68::in_crop(const cv::Mat& bgr,
+                                                      const cv::Rect2d& crop) const {
   if (bgr.empty()) throw std::invalid_argument("face landmarks: the image is empty");
   if (bgr.depth() != CV_8U || (bgr.channels() != 3 && bgr.channels() != 1))
     throw std::invalid_argument("face landmarks: the image must be 8-bit BGR or grey");
@@ -266,13 +270,15 @@ std::array<cv::Point2d, 68> FaceLandmarker68::in_crop(const cv::Mat& bgr, const 
 
 cv::Rect2d crop_from_points(const std::array<cv::Point2d, 68>& p) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
-  for (const cv::Point2d& q : p) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
+  for (const cv::Point2d& q : p)
+    x0 = std::min(x0, q.x), x1 = std::max(x1, q.x), y0 = std::min(y0, q.y), y1 = std::max(y1, q.y);
   const double side = kCropScale * std::max(x1 - x0, y1 - y0);
   const cv::Point2d centre((x0 + x1) / 2, (y0 + y1) / 2 - kCropLift * (y1 - y0));
   return {centre.x - side / 2, centre.y - side / 2, side, side};
 }
 
-std::optional<FaceLandmarks68> FaceLandmarker68::detect(const cv::Mat& bgr, const std::string& cascade_dir,
+std::optional<FaceLandmarks68> FaceLandmarker68::detect(const cv::Mat& bgr,
+                                                        const std::string& cascade_dir,
                                                         int iterations) const {
   if (bgr.empty()) throw std::invalid_argument("face landmarks: the image is empty");
   const std::optional<cv::Rect> face = haar_face(bgr, cascade_dir, false);

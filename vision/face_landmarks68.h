@@ -20,8 +20,8 @@ std::string default_model_dir();
 
 struct FaceLandmarks68 {
   std::array<cv::Point2d, 68> points;  // image pixels, origin top-left (pixel centre = index + 0.5)
-  cv::Rect2d crop;                      // the square the network saw last
-  double movement_px = 0;               // mean point movement of the last refinement step
+  cv::Rect2d crop;                     // the square the network saw last
+  double movement_px = 0;              // mean point movement of the last refinement step
 };
 
 class FaceLandmarker68 {
@@ -44,7 +44,8 @@ class FaceLandmarker68 {
   std::optional<FaceLandmarks68> detect(const cv::Mat& bgr, const std::string& cascade_dir,
                                         int iterations = 3) const;
   // The same from a first guess of the face's square (e.g. from the head's silhouette).
-  FaceLandmarks68 detect_in(const cv::Mat& bgr, const cv::Rect2d& first_crop, int iterations = 6) const;
+  FaceLandmarks68 detect_in(const cv::Mat& bgr, const cv::Rect2d& first_crop,
+                            int iterations = 6) const;
 
  private:
   struct Net;

@@ -57,7 +57,8 @@ cv::Vec3f frame_skin(const FilterContext& c, const cv::Rect& roi) {
 cv::Mat non_skin(const FilterContext& c, const cv::Rect& roi, cv::Vec3f skin, double tau) {
   cv::Mat m(roi.size(), CV_8U);
   const float dark = 0.55f * skin[0], tau2 = float(tau * tau);
-  const float sat2 = 0.36f * ((skin[1] - 128) * (skin[1] - 128) + (skin[2] - 128) * (skin[2] - 128));
+  const float sat2 =
+      0.36f * ((skin[1] - 128) * (skin[1] - 128) + (skin[2] - 128) * (skin[2] - 128));
   for (int r = 0; r < roi.height; ++r) {
     const cv::Vec3b* p = c.lab.ptr<cv::Vec3b>(roi.y + r) + roi.x;
     uchar* o = m.ptr<uchar>(r);
@@ -102,7 +103,8 @@ Blob blob_at(const cv::Mat& m, cv::Point seed) {
 // Darkest point of the blurred grey inside roi (image coordinates) and its contrast to the median.
 cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, double* contrast) {
   cv::Mat g;
-  cv::GaussianBlur(c.grey(roi), g, cv::Size(), sigma, 0, cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
+  cv::GaussianBlur(c.grey(roi), g, cv::Size(), sigma, 0,
+                   cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
   double lo = 0;
   cv::Point at;
   cv::minMaxLoc(g, &lo, nullptr, &at);
@@ -114,7 +116,8 @@ cv::Point darkest(const FilterContext& c, const cv::Rect& roi, double sigma, dou
 
 }  // namespace
 
-FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W, const cv::Rect& box) {
+FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W,
+                                  const cv::Rect& box) {
   FilterContext c;
   c.bgr = bgr;
   // Only the box (the filters' windows stay inside it) is converted; the rest of the
@@ -141,11 +144,13 @@ FilterContext make_filter_context(const cv::Mat& bgr, cv::Point2d at, double W, 
 EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double H, bool il) {
   EyeFound e;
   const double s = il ? -1 : 1;
-  const cv::Rect win = clip_to(c, x0 + s * 0.07 * W, rn - 0.03 * H, x0 + s * 0.42 * W, rn + 0.09 * H);
+  const cv::Rect win =
+      clip_to(c, x0 + s * 0.07 * W, rn - 0.03 * H, x0 + s * 0.42 * W, rn + 0.09 * H);
   if (win.area() < 16) return e;
   double contrast = 0;
   const cv::Point iris = darkest(c, win, std::max(1.0, 0.012 * W), &contrast);
-  const cv::Rect band = clip_to(c, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
+  const cv::Rect band =
+      clip_to(c, iris.x - 0.2 * W, iris.y - 0.045 * W, iris.x + 0.2 * W, iris.y + 0.045 * W);
   cv::Mat m = non_skin(c, band, frame_skin(c, band), 12.0);
   cv::morphologyEx(m, m, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
   const Blob b = blob_at(m, iris - band.tl());
@@ -169,7 +174,8 @@ EyeFound find_eye(const FilterContext& c, double x0, double rn, double W, double
 EyeFound find_side_eye(const FilterContext& c, double xp, double row, double H, double behind) {
   EyeFound e;
   const double x0 = xp + behind * 0.015 * H, x1 = xp + behind * 0.13 * H;
-  const cv::Rect win = clip_to(c, std::min(x0, x1), row - 0.035 * H, std::max(x0, x1), row + 0.035 * H);
+  const cv::Rect win =
+      clip_to(c, std::min(x0, x1), row - 0.035 * H, std::max(x0, x1), row + 0.035 * H);
   if (win.width < 6 || win.height < 4) return e;
   cv::Mat m = non_skin(c, win, frame_skin(c, win), 12.0);
   cv::morphologyEx(m, m, cv::MORPH_OPEN, cv::getStructuringElement(cv::MORPH_ELLIPSE, {3, 3}));
@@ -179,11 +185,14 @@ EyeFound find_side_eye(const FilterContext& c, double xp, double row, double H, 
   int best = -1;
   for (int i = 1; i < n; ++i) {
     const int top = stats.at<int>(i, cv::CC_STAT_TOP), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
-    if (top == 0 || top + h >= win.height || stats.at<int>(i, cv::CC_STAT_WIDTH) < 0.02 * H) continue;
-    if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+    if (top == 0 || top + h >= win.height || stats.at<int>(i, cv::CC_STAT_WIDTH) < 0.02 * H)
+      continue;
+    if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA))
+      best = i;
   }
   if (best < 0) return e;
-  const int left = stats.at<int>(best, cv::CC_STAT_LEFT), w = stats.at<int>(best, cv::CC_STAT_WIDTH);
+  const int left = stats.at<int>(best, cv::CC_STAT_LEFT),
+            w = stats.at<int>(best, cv::CC_STAT_WIDTH);
   const double cy = win.y + centroids.at<double>(best, 1);
   const double front = behind > 0 ? win.x + left - 0.5 : win.x + left + w - 0.5;
   const double back = behind > 0 ? win.x + left + w - 0.5 : win.x + left - 0.5;
@@ -194,16 +203,19 @@ EyeFound find_side_eye(const FilterContext& c, double xp, double row, double H, 
   cv::Point at(-1, -1);
   for (int r = 0; r < win.height; ++r)
     for (int x = 0; x < win.width; ++x)
-      if (labels.at<int>(r, x) == best && g.at<uchar>(r, x) < lo) lo = g.at<uchar>(r, x), at = {x, r};
+      if (labels.at<int>(r, x) == best && g.at<uchar>(r, x) < lo)
+        lo = g.at<uchar>(r, x), at = {x, r};
   e.ok = true;
   e.centre = {double(win.x + at.x), cy};
   e.corner_image_left = {front, cy};
   e.corner_image_right = {back, cy};
-  e.confidence = std::clamp(double(stats.at<int>(best, cv::CC_STAT_AREA)) / (0.002 * H * H), 0.2, 0.8);
+  e.confidence =
+      std::clamp(double(stats.at<int>(best, cv::CC_STAT_AREA)) / (0.002 * H * H), 0.2, 0.8);
   return e;
 }
 
-MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_ll, double W, double H) {
+MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_ll, double W,
+                      double H) {
   MouthFound mo;
   const cv::Rect win = clip_to(c, x0 - 0.32 * W, r_lu - 0.04 * H, x0 + 0.32 * W, r_ll + 0.04 * H);
   if (win.area() < 16) return mo;
@@ -248,22 +260,26 @@ MouthFound find_mouth(const FilterContext& c, double x0, double r_lu, double r_l
   return mo;
 }
 
-NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_sub, double W, double H) {
+NoseFound find_nose(const FilterContext& c, double x0, double r_tip, double r_sub, double W,
+                    double H) {
   NoseFound n;
   if (c.roi.width < 3 || c.roi.height < 3) return n;
   const cv::Rect win = clip_to(c, x0 - 0.15 * W, r_tip, x0 + 0.15 * W, r_sub + 0.03 * H);
   if (win.area() < 16) return n;
   cv::Mat g;
-  cv::GaussianBlur(c.grey(win), g, cv::Size(), 1.0, 0, cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
+  cv::GaussianBlur(c.grey(win), g, cv::Size(), 1.0, 0,
+                   cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
   double pos[2] = {0, 0}, val[2] = {1e9, 1e9};
   double py[2] = {0, 0};
   for (int r = 0; r < g.rows; ++r)
     for (int x = 0; x < g.cols; ++x) {
       const int side = (x + win.x) < x0 ? 0 : 1;
-      if (g.at<uchar>(r, x) < val[side]) val[side] = g.at<uchar>(r, x), pos[side] = x + win.x, py[side] = r + win.y;
+      if (g.at<uchar>(r, x) < val[side])
+        val[side] = g.at<uchar>(r, x), pos[side] = x + win.x, py[side] = r + win.y;
     }
   const double d0 = x0 - pos[0], d1 = pos[1] - x0;
-  const bool found = val[0] < c.skin[0] * 0.6 && val[1] < c.skin[0] * 0.6 && d0 > 0.01 * W && d1 > 0.01 * W;
+  const bool found =
+      val[0] < c.skin[0] * 0.6 && val[1] < c.skin[0] * 0.6 && d0 > 0.01 * W && d1 > 0.01 * W;
   const double d = found ? 0.5 * (d0 + d1) : 0.06 * W;
   const double row_rule =
       found ? 0.5 * (py[0] + py[1]) - 0.25 * (r_sub - r_tip) : r_tip + 0.68 * (r_sub - r_tip);
@@ -324,7 +340,7 @@ void add_brow_features(const FilterContext& c, const EyeFound& a, const EyeFound
     if (!e.ok) continue;
     const std::string name = side == 0 ? "brow_right_" : "brow_left_";
     const cv::Rect win = clip_to(c, e.centre.x - 0.17 * W, e.centre.y - 0.11 * H,
-                              e.centre.x + 0.17 * W, e.centre.y - 0.025 * H);
+                                 e.centre.x + 0.17 * W, e.centre.y - 0.025 * H);
     if (win.area() < 16) continue;
     cv::Mat m;
     cv::compare(c.grey(win), c.skin[0] * 0.62, m, cv::CMP_LT);
@@ -333,7 +349,8 @@ void add_brow_features(const FilterContext& c, const EyeFound& a, const EyeFound
     const int k = cv::connectedComponentsWithStats(m, labels, stats, cents, 8, CV_32S);
     int best = -1;
     for (int i = 1; i < k; ++i)
-      if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA)) best = i;
+      if (best < 0 || stats.at<int>(i, cv::CC_STAT_AREA) > stats.at<int>(best, cv::CC_STAT_AREA))
+        best = i;
     if (best < 0 || stats.at<int>(best, cv::CC_STAT_WIDTH) < 0.08 * W) continue;
     const auto mean_row = [&](int col) {
       double s = 0;
@@ -342,9 +359,11 @@ void add_brow_features(const FilterContext& c, const EyeFound& a, const EyeFound
         if (labels.at<int>(r, col) == best) s += r, ++n;
       return n ? s / n + win.y : -1.0;
     };
-    const int x0 = stats.at<int>(best, cv::CC_STAT_LEFT), x1 = x0 + stats.at<int>(best, cv::CC_STAT_WIDTH) - 1;
+    const int x0 = stats.at<int>(best, cv::CC_STAT_LEFT),
+              x1 = x0 + stats.at<int>(best, cv::CC_STAT_WIDTH) - 1;
     const int xc = std::clamp(int(std::lround(e.centre.x)) - win.x, x0, x1);
-    const cv::Point2d pl(x0 + win.x, mean_row(x0)), pr(x1 + win.x, mean_row(x1)), pc(xc + win.x, mean_row(xc));
+    const cv::Point2d pl(x0 + win.x, mean_row(x0)), pr(x1 + win.x, mean_row(x1)),
+        pc(xc + win.x, mean_row(xc));
     const double conf = 0.7 * e.confidence + 0.3;
     out.features[name + "center"] = make(pc, conf, "filter-dark-band");
     out.features[name + "inner"] = make(side == 0 ? pr : pl, conf, "filter-dark-band");
@@ -367,14 +386,16 @@ void mirror_missing(FrontFeatures& out) {
   for (std::string_view name : kLandmarkNames) {
     if (name.find("ear_") == 0) continue;  // ears are seen from the side camera only
     const std::string other = mirrored_name(name);
-    if (other == name || out.features.count(std::string(name)) || !out.features.count(other)) continue;
+    if (other == name || out.features.count(std::string(name)) || !out.features.count(other))
+      continue;
     Feature2d f = out.features[other];
     f.px = mirror_point(out.centre, f.px);
     f.confidence *= 0.6;
     f.method = "mirrored";
     f.mirrored = true;
     out.features[std::string(name)] = f;
-    out.warnings.push_back("front view: " + std::string(name) + " not found, mirrored from " + other);
+    out.warnings.push_back("front view: " + std::string(name) + " not found, mirrored from " +
+                           other);
   }
 }
 

@@ -8,7 +8,7 @@ namespace orthoface::vision {
 
 // Local filters for the front-view features (used by front_features; index coordinates).
 struct FilterContext {
-  cv::Mat bgr, grey, lab;  // lab: 8-bit OpenCV Lab; grey and lab are set inside roi only
+  cv::Mat bgr, grey, lab;   // lab: 8-bit OpenCV Lab; grey and lab are set inside roi only
   cv::Rect roi;             // face box around the skin point; filter windows are clipped to it
   cv::Vec3f skin{0, 0, 0};  // Lab of the cheek skin
 };

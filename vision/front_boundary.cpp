@@ -93,15 +93,17 @@ FrontBoundary front_boundary(const cv::Mat& prob, const cv::Mat& mask, int botto
     return fb;
   }
   for (int r = e.top; r <= e.bottom; ++r)
-    if (e.left[r] >= 0) fb.head_width_px = std::max(fb.head_width_px, double(e.right[r] - e.left[r]));
+    if (e.left[r] >= 0)
+      fb.head_width_px = std::max(fb.head_width_px, double(e.right[r] - e.left[r]));
   if (bottom_row < 0) bottom_row = int(e.top + 1.45 * fb.head_width_px);
   fb.top_row = e.top;
   fb.bottom_row = std::clamp(bottom_row, e.top, e.bottom);
   // Edges near the blob only: its box plus the fit's search range and the filters' support.
   const int pad = 12;
   const cv::Rect box = cv::boundingRect(mask);
-  const EdgeImage edges = edge_image(prob, {0.7, 0.1}, cv::Rect(box.x - pad, box.y - pad,
-                                                                box.width + 2 * pad, box.height + 2 * pad));
+  const EdgeImage edges =
+      edge_image(prob, {0.7, 0.1},
+                 cv::Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad));
   double sl = 0, sr = 0;
   fb.left = fit_side(e, edges, fb.top_row, fb.bottom_row, true, o, &sl);
   fb.right = fit_side(e, edges, fb.top_row, fb.bottom_row, false, o, &sr);

@@ -20,8 +20,8 @@ struct FrontBoundaryOptions {
 struct FrontBoundary {
   std::vector<cv::Point2d> left, right;  // image-left side and image-right side, top to bottom
   int top_row = -1, bottom_row = -1;
-  double confidence = 0.0;               // share of the curve backed by edges
-  double head_width_px = 0.0;            // widest row of the blob (ears included)
+  double confidence = 0.0;     // share of the curve backed by edges
+  double head_width_px = 0.0;  // widest row of the blob (ears included)
   std::vector<std::string> warnings;
 };
 

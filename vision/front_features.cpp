@@ -66,7 +66,9 @@ double cheek_x(const std::vector<cv::Point2d>& side, double y, double H, int out
     cv::solve(A, b, coef, cv::DECOMP_SVD);
     for (size_t i = 0; i < pts.size(); ++i) {
       const double u = (pts[i].y - y) / H;
-      const double r = outward * (pts[i].x - (coef.at<double>(0) + coef.at<double>(1) * u + coef.at<double>(2) * u * u));
+      const double r =
+          outward *
+          (pts[i].x - (coef.at<double>(0) + coef.at<double>(1) * u + coef.at<double>(2) * u * u));
       w[i] = r > 1.0 ? 0.02 : 1.0;
     }
   }
@@ -173,27 +175,37 @@ FrontFeatures front_features(const cv::Mat& bgr, const FrontBoundary& fb,
   add_nose_mouth_features(nose, mouth, out);
   // Midline points: on the centre line at the profile's rows.
   const auto on_line = [&](double y) {
-    return cv::Point2d(out.centre.centre_x + std::tan(out.centre.roll_rad) * (y - out.centre.centre_y), y);
+    return cv::Point2d(
+        out.centre.centre_x + std::tan(out.centre.roll_rad) * (y - out.centre.centre_y), y);
   };
   for (const char* n : {"forehead_top", "nose_bridge", "nose_tip", "subnasale", "lip_upper",
                         "lip_lower", "chin", "chin_bottom"}) {
     const auto it = rows.find(n);
     if (it != rows.end())
-      out.features[n] = make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
+      out.features[n] =
+          make(on_line(it->second), 0.7 * out.centre.confidence, "centre-line+profile-row");
   }
   if (rows.empty()) {  // front view alone: midline rows from the position model
-    const double r_mouth = mouth.ok ? 0.5 * (mouth.corner_image_left.y + mouth.corner_image_right.y) : r_lu + 0.02 * H;
+    const double r_mouth =
+        mouth.ok ? 0.5 * (mouth.corner_image_left.y + mouth.corner_image_right.y) : r_lu + 0.02 * H;
     // With both eyes and the mouth: nose rows at their usual share of the eye-to-mouth span.
     const bool em = er.ok && el.ok && mouth.ok;
     const double ye = 0.5 * (er.centre.y + el.centre.y), D = r_mouth - ye;
-    const std::pair<const char*, double> guess[] = {
-        {"forehead_top", top + 0.2 * H}, {"nose_bridge", em ? ye - 0.05 * D : r_nasion},
-        {"nose_tip", em ? ye + 0.62 * D : r_tip}, {"subnasale", em ? ye + 0.74 * D : r_sub}, {"lip_upper", r_mouth - 0.025 * H}, {"lip_lower", r_mouth + 0.035 * H},
-        {"chin", top + 0.93 * H}, {"chin_bottom", top + H}};
-    for (const auto& [n, y] : guess) out.features[n] = make(on_line(y), 0.2 * out.centre.confidence, "position-model");
+    const std::pair<const char*, double> guess[] = {{"forehead_top", top + 0.2 * H},
+                                                    {"nose_bridge", em ? ye - 0.05 * D : r_nasion},
+                                                    {"nose_tip", em ? ye + 0.62 * D : r_tip},
+                                                    {"subnasale", em ? ye + 0.74 * D : r_sub},
+                                                    {"lip_upper", r_mouth - 0.025 * H},
+                                                    {"lip_lower", r_mouth + 0.035 * H},
+                                                    {"chin", top + 0.93 * H},
+                                                    {"chin_bottom", top + H}};
+    for (const auto& [n, y] : guess)
+      out.features[n] = make(on_line(y), 0.2 * out.centre.confidence, "position-model");
   }
-  out.features["cheek_right"] = make({cheek_x(fb.left, r_tip, H, -1), r_tip}, fb.confidence, "boundary-without-ear");
-  out.features["cheek_left"] = make({cheek_x(fb.right, r_tip, H, 1), r_tip}, fb.confidence, "boundary-without-ear");
+  out.features["cheek_right"] =
+      make({cheek_x(fb.left, r_tip, H, -1), r_tip}, fb.confidence, "boundary-without-ear");
+  out.features["cheek_left"] =
+      make({cheek_x(fb.right, r_tip, H, 1), r_tip}, fb.confidence, "boundary-without-ear");
   mirror_missing(out);
   return out;
 }

@@ -21,15 +21,16 @@ cv::CascadeClassifier load(const std::string& dir, const std::string& file) {
 std::vector<cv::Rect> detect(cv::CascadeClassifier& c, const cv::Mat& grey, int min_side) {
   std::vector<cv::Rect> r;
   c.detectMultiScale(grey, r, 1.1, 4, 0, cv::Size(min_side, min_side));
-  std::sort(r.begin(), r.end(), [](const cv::Rect& a, const cv::Rect& b) { return a.area() > b.area(); });
+  std::sort(r.begin(), r.end(),
+            [](const cv::Rect& a, const cv::Rect& b) { return a.area() > b.area(); });
   return r;
 }
 
 }  // namespace
 
 std::optional<cv::Rect> haar_face(const cv::Mat& bgr, const std::string& dir, bool profile) {
-  cv::CascadeClassifier c = load(dir, profile ? "haarcascade_profileface.xml"
-                                              : "haarcascade_frontalface_default.xml");
+  cv::CascadeClassifier c =
+      load(dir, profile ? "haarcascade_profileface.xml" : "haarcascade_frontalface_default.xml");
   cv::Mat g;
   cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
   cv::equalizeHist(g, g);

@@ -16,6 +16,7 @@ namespace orthoface::vision {
 std::optional<cv::Rect> haar_face(const cv::Mat& bgr, const std::string& cascade_dir, bool profile);
 
 // Eye boxes (haarcascade_eye.xml) inside `face` of `bgr`, largest first. Same errors.
-std::vector<cv::Rect> haar_eyes(const cv::Mat& bgr, const cv::Rect& face, const std::string& cascade_dir);
+std::vector<cv::Rect> haar_eyes(const cv::Mat& bgr, const cv::Rect& face,
+                                const std::string& cascade_dir);
 
 }  // namespace orthoface::vision

@@ -21,8 +21,10 @@ cv::Mat to_depth8(const cv::Mat& image) {
   cv::minMaxLoc(image.reshape(1), &lo, &hi);
   if (!std::isfinite(lo) || !std::isfinite(hi)) throw std::invalid_argument("non-finite pixels");
   double scale = 1.0;
-  if (image.depth() == CV_16U || image.depth() == CV_16S) scale = hi > 255 ? 255.0 / hi : 1.0;
-  else scale = hi <= 1.0 ? 255.0 : (hi > 255 ? 255.0 / hi : 1.0);
+  if (image.depth() == CV_16U || image.depth() == CV_16S)
+    scale = hi > 255 ? 255.0 / hi : 1.0;
+  else
+    scale = hi <= 1.0 ? 255.0 : (hi > 255 ? 255.0 / hi : 1.0);
   cv::Mat out;
   image.convertTo(out, CV_8U, scale);
   return out;
@@ -63,7 +65,8 @@ cv::Mat read_image(const std::string& path) {
     throw std::runtime_error("image '" + path + "': cannot be decoded (" + e.msg + ")");
   }
   if (raw.empty())
-    throw std::runtime_error("image '" + path + "': not a readable image (empty, truncated or "
+    throw std::runtime_error("image '" + path +
+                             "': not a readable image (empty, truncated or "
                              "unsupported format)");
   try {
     return to_bgr8(raw, "image '" + path + "'");
@@ -98,9 +101,12 @@ cv::Mat to_bgr8(const cv::Mat& image, const std::string& what) {
     throw std::invalid_argument(what + ": " + e.what());
   }
   cv::Mat out;
-  if (ch == 1) cv::cvtColor(m8, out, cv::COLOR_GRAY2BGR);
-  else if (ch == 4) cv::cvtColor(m8, out, cv::COLOR_BGRA2BGR);
-  else out = m8.clone();
+  if (ch == 1)
+    cv::cvtColor(m8, out, cv::COLOR_GRAY2BGR);
+  else if (ch == 4)
+    cv::cvtColor(m8, out, cv::COLOR_BGRA2BGR);
+  else
+    out = m8.clone();
   return out;
 }
 

@@ -11,22 +11,36 @@ namespace orthoface::vision {
 // the image right in the front view and the side nearer the side camera.
 // Midline landmarks (no side suffix) are seen in both views; the side view shows the profile.
 inline constexpr std::array<std::string_view, 30> kLandmarkNames = {
-    "forehead_top",                                       // hairline / top of forehead, midline
-    "brow_left_inner",  "brow_left_center",  "brow_left_outer",
-    "brow_right_inner", "brow_right_center", "brow_right_outer",
-    "nose_bridge",                                        // deepest point between the eyes (nasion)
-    "eye_left_inner",   "eye_left_center",   "eye_left_outer",
-    "eye_right_inner",  "eye_right_center",  "eye_right_outer",
-    "nose_tip",                                           // pronasale
-    "alar_left",        "alar_right",                     // outermost points of the nostril wings
+    "forehead_top",  // hairline / top of forehead, midline
+    "brow_left_inner",
+    "brow_left_center",
+    "brow_left_outer",
+    "brow_right_inner",
+    "brow_right_center",
+    "brow_right_outer",
+    "nose_bridge",  // deepest point between the eyes (nasion)
+    "eye_left_inner",
+    "eye_left_center",
+    "eye_left_outer",
+    "eye_right_inner",
+    "eye_right_center",
+    "eye_right_outer",
+    "nose_tip",  // pronasale
+    "alar_left",
+    "alar_right",  // outermost points of the nostril wings
     "subnasale",
-    "mouth_left",       "mouth_right",                    // mouth corners
-    "lip_upper",        "lip_lower",                      // lip midpoints (most projecting)
-    "chin",                                               // pogonion, most projecting chin point
-    "chin_bottom",                                        // gnathion / menton, lowest chin point
-    "ear_left_top",     "ear_right_top",
-    "ear_left_tragus",  "ear_right_tragus",
-    "cheek_left",       "cheek_right",                    // widest face points at nose-tip height
+    "mouth_left",
+    "mouth_right",  // mouth corners
+    "lip_upper",
+    "lip_lower",    // lip midpoints (most projecting)
+    "chin",         // pogonion, most projecting chin point
+    "chin_bottom",  // gnathion / menton, lowest chin point
+    "ear_left_top",
+    "ear_right_top",
+    "ear_left_tragus",
+    "ear_right_tragus",
+    "cheek_left",
+    "cheek_right",  // widest face points at nose-tip height
 };
 
 // Midline landmarks: the ones whose 3D position the side profile gives directly.

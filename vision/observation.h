@@ -11,15 +11,15 @@ namespace orthoface::vision {
 // One named 2D point found in one view. Pixels, origin top-left of the image.
 struct Feature2d {
   cv::Point2d px;
-  double confidence = 0.0;   // 0 = guess from the position model only, 1 = certain
-  std::string method;        // how it was found: "edge", "filter", "profile-curvature",
-                             // "position-model", "mirrored", "haar", "dlib", ...
-  bool mirrored = false;     // copied across the centre line from the other side (seed 004 §4)
+  double confidence = 0.0;  // 0 = guess from the position model only, 1 = certain
+  std::string method;       // how it was found: "edge", "filter", "profile-curvature",
+                            // "position-model", "mirrored", "haar", "dlib", ...
+  bool mirrored = false;    // copied across the centre line from the other side (seed 004 §4)
 };
 
 // What vision found in one view.
 struct ViewObservation {
-  int width = 0;   // image size, pixels
+  int width = 0;  // image size, pixels
   int height = 0;
   // Front view: the extremal boundary (face silhouette) as a polyline, top to bottom on the
   //   image-left side then the image-right side, each point with its own row.
@@ -40,7 +40,8 @@ struct FaceObservation {
   double roll_rad = 0.0;
   double centre_confidence = 0.0;
   // True when the face in the side image looks toward the image left (the side camera stands at
-  // the subject's left, head +x, as in DESIGN.md); false when it was mirrored (camera on the right).
+  // the subject's left, head +x, as in DESIGN.md); false when it was mirrored (camera on the
+  // right).
   bool side_faces_left = true;
   std::vector<std::string> warnings;  // what is missing or doubtful, for report.json
 };

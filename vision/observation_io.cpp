@@ -18,10 +18,16 @@ json view_json(const ViewObservation& v) {
   for (const auto& p : v.boundary) b.push_back({p.x, p.y});
   json f = json::object();
   for (const auto& [n, x] : v.features)
-    f[n] = {{"x", x.px.x}, {"y", x.px.y}, {"confidence", x.confidence}, {"method", x.method},
+    f[n] = {{"x", x.px.x},
+            {"y", x.px.y},
+            {"confidence", x.confidence},
+            {"method", x.method},
             {"mirrored", x.mirrored}};
-  return {{"width", v.width}, {"height", v.height}, {"boundary", b},
-          {"boundary_confidence", v.boundary_confidence}, {"features", f}};
+  return {{"width", v.width},
+          {"height", v.height},
+          {"boundary", b},
+          {"boundary_confidence", v.boundary_confidence},
+          {"features", f}};
 }
 
 const json& field(const json& j, const char* name, const std::string& where) {
@@ -32,9 +38,11 @@ const json& field(const json& j, const char* name, const std::string& where) {
 
 double number(const json& j, const char* name, const std::string& where) {
   const json& v = field(j, name, where);
-  if (!v.is_number()) throw std::invalid_argument("observation JSON: '" + where + name + "' is not a number");
+  if (!v.is_number())
+    throw std::invalid_argument("observation JSON: '" + where + name + "' is not a number");
   const double d = v.get<double>();
-  if (!std::isfinite(d)) throw std::invalid_argument("observation JSON: '" + where + name + "' is not finite");
+  if (!std::isfinite(d))
+    throw std::invalid_argument("observation JSON: '" + where + name + "' is not finite");
   return d;
 }
 
@@ -44,14 +52,17 @@ ViewObservation view_from(const json& j, const std::string& where) {
   v.height = int(number(j, "height", where));
   v.boundary_confidence = number(j, "boundary_confidence", where);
   const json& b = field(j, "boundary", where);
-  if (!b.is_array()) throw std::invalid_argument("observation JSON: '" + where + "boundary' is not an array");
+  if (!b.is_array())
+    throw std::invalid_argument("observation JSON: '" + where + "boundary' is not an array");
   for (const json& p : b) {
     if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-      throw std::invalid_argument("observation JSON: '" + where + "boundary' holds a non-[x,y] item");
+      throw std::invalid_argument("observation JSON: '" + where +
+                                  "boundary' holds a non-[x,y] item");
     v.boundary.emplace_back(p[0].get<double>(), p[1].get<double>());
   }
   const json& f = field(j, "features", where);
-  if (!f.is_object()) throw std::invalid_argument("observation JSON: '" + where + "features' is not an object");
+  if (!f.is_object())
+    throw std::invalid_argument("observation JSON: '" + where + "features' is not an object");
   for (const auto& [name, x] : f.items()) {
     if (!is_landmark_name(name))
       throw std::invalid_argument("observation JSON: unknown landmark '" + name + "'");
@@ -75,8 +86,11 @@ ViewObservation view_from(const json& j, const std::string& where) {
 json to_json(const FaceObservation& o) {
   return {{"front", view_json(o.front)},
           {"side", view_json(o.side)},
-          {"centre_line", {{"x_px", o.centre_x_px}, {"y_px", o.centre_y_px},
-                           {"roll_rad", o.roll_rad}, {"confidence", o.centre_confidence}}},
+          {"centre_line",
+           {{"x_px", o.centre_x_px},
+            {"y_px", o.centre_y_px},
+            {"roll_rad", o.roll_rad},
+            {"confidence", o.centre_confidence}}},
           {"side_faces_left", o.side_faces_left},
           {"warnings", o.warnings}};
 }
@@ -91,7 +105,8 @@ FaceObservation observation_from_json(const json& j) {
   o.roll_rad = number(c, "roll_rad", "centre_line.");
   o.centre_confidence = number(c, "confidence", "centre_line.");
   const json& s = field(j, "side_faces_left", "");
-  if (!s.is_boolean()) throw std::invalid_argument("observation JSON: 'side_faces_left' is not a boolean");
+  if (!s.is_boolean())
+    throw std::invalid_argument("observation JSON: 'side_faces_left' is not a boolean");
   o.side_faces_left = s.get<bool>();
   const json& w = field(j, "warnings", "");
   if (!w.is_array()) throw std::invalid_argument("observation JSON: 'warnings' is not an array");
@@ -112,7 +127,8 @@ void write_observation(const FaceObservation& obs, const std::string& path) {
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error("observation file '" + path + "': cannot rename: " + ec.message());
+  if (ec)
+    throw std::runtime_error("observation file '" + path + "': cannot rename: " + ec.message());
 }
 
 FaceObservation read_observation(const std::string& path) {

@@ -33,9 +33,12 @@ FrontLandmarker parse_front_landmarker(const std::string& name) {
 
 const char* front_landmarker_name(FrontLandmarker landmarker) {
   switch (landmarker) {
-    case FrontLandmarker::Network: return "network";
-    case FrontLandmarker::Consensus: return "consensus";
-    case FrontLandmarker::Filters: break;
+    case FrontLandmarker::Network:
+      return "network";
+    case FrontLandmarker::Consensus:
+      return "consensus";
+    case FrontLandmarker::Filters:
+      break;
   }
   return "filters";
 }
@@ -80,16 +83,20 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
     warn.push_back("side view: no head found (no subject distinct from the background)");
     return r;
   }
-  if (blobs > 1) warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
+  if (blobs > 1)
+    warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
   r.faces_left = profile_faces_left(mask, side, &r.facing_confidence, min_head_height_px);
-  if (cam != SideCamera::Auto) r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
+  if (cam != SideCamera::Auto)
+    r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
     warn.push_back("side view: facing direction unsure; give --side-camera left|right");
   // A right-facing profile is mirrored into fresh buffers (flipping into a header of `side`
   // would mirror `side` itself in place, and observe() reads it again afterwards).
   cv::Mat im, pr, mk;
-  if (r.faces_left) im = side, pr = prob, mk = mask;
-  else cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
+  if (r.faces_left)
+    im = side, pr = prob, mk = mask;
+  else
+    cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
   SideProfileOptions so;
   so.min_head_height_px = min_head_height_px;
   r.profile = side_profile(im, pr, mk, so);
@@ -149,10 +156,9 @@ void add_side_eye(const cv::Mat& side, const SideResult& s, FaceObservation& obs
   // (index coordinates).
   const RowMap map = side_row_map(obs);
   const double row = map.a * eye->second.px.y + map.b - 0.5;
-  const auto at = std::min_element(s.profile.curve.begin(), s.profile.curve.end(),
-                                   [&](cv::Point2d a, cv::Point2d b) {
-                                     return std::abs(a.y - row) < std::abs(b.y - row);
-                                   });
+  const auto at = std::min_element(
+      s.profile.curve.begin(), s.profile.curve.end(),
+      [&](cv::Point2d a, cv::Point2d b) { return std::abs(a.y - row) < std::abs(b.y - row); });
   if (std::abs(at->y - row) > 2.0) return;
   const double behind = s.faces_left ? 1.0 : -1.0;
   const cv::Rect box = cv::Rect(cv::Point(int(at->x + behind * 0.2 * H), int(row - 0.1 * H)),
@@ -208,8 +214,9 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   const cv::Mat side = to_bgr8(side_in, "side image");
   check_sizes(front, side, o.max_size_ratio);
   if (same_pixels(front, side))
-    throw std::invalid_argument("front image and side image are the same picture; the side view "
-                                "must be taken 90 deg from the front");
+    throw std::invalid_argument(
+        "front image and side image are the same picture; the side view "
+        "must be taken 90 deg from the front");
   const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
   const cv::Mat bgs = optional_bgr(o.background_side, side, "side background");
   FaceObservation obs;
@@ -219,10 +226,13 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
   // underestimates. A hood or collar widening the blob below the head does not count.
   // The two photos' segmentations are independent: the side's runs on a second thread.
-  std::future<SideBlob> side_seg = std::async(std::launch::async, side_blob, std::cref(side), std::cref(bgs));
+  std::future<SideBlob> side_seg =
+      std::async(std::launch::async, side_blob, std::cref(side), std::cref(bgs));
   const FrontHead head = segment_front(front, bgf);
   const double row_scale = double(front.rows) / side.rows;
-  const double min_h = head.mask.empty() ? 0.0 : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
+  const double min_h = head.mask.empty()
+                           ? 0.0
+                           : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
   const SideResult s = observe_side(side, side_seg.get(), o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
   observe_front(front, bgf, head, s.profile, row_scale, o, obs);
@@ -258,7 +268,8 @@ bool is_complete(const FaceObservation& obs, std::string* missing) {
   for (std::string_view n : kLandmarkNames) {
     if (n.find("ear_") == 0) continue;
     const auto it = obs.front.features.find(std::string(n));
-    if (it == obs.front.features.end() || it->second.confidence <= 0) m += " front:" + std::string(n);
+    if (it == obs.front.features.end() || it->second.confidence <= 0)
+      m += " front:" + std::string(n);
   }
   for (std::string_view n : kProfileLandmarkNames) {
     const auto it = obs.side.features.find(std::string(n));

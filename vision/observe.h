@@ -14,9 +14,9 @@ enum class SideCamera { Auto, Left, Right };
 
 // Which detector gives the front view's eyes, brows, nose, mouth and chin.
 enum class FrontLandmarker {
-  Filters,  // seed 004 §4: a position model placed by the side profile's rows, local filters
-  Network,  // a trained 68-point network (vision/face_landmarks68.h, MIT weights) on the face
-            // the Haar cascade or the silhouette gives; the filters where it finds no face
+  Filters,    // seed 004 §4: a position model placed by the side profile's rows, local filters
+  Network,    // a trained 68-point network (vision/face_landmarks68.h, MIT weights) on the face
+              // the Haar cascade or the silhouette gives; the filters where it finds no face
   Consensus,  // both: each paired feature (eyes, brows, mouth and nose wings) and the centre
               // line from the filters where they agree with the network (within 6 % of the
               // eye distance: the filters lock onto the image's own edges), else the network's;
@@ -31,7 +31,7 @@ struct ObserveOptions {
   cv::Mat background_front;  // optional empty-scene frames (same size as the photo): silhouettes
   cv::Mat background_side;   // then come from background difference instead of border colours
   SideCamera side_camera = SideCamera::Auto;
-  bool use_haar = false;     // optional: OpenCV Haar cascades (opencv-data) check/initialise eyes
+  bool use_haar = false;  // optional: OpenCV Haar cascades (opencv-data) check/initialise eyes
   std::string haar_dir = "/usr/share/opencv4/haarcascades";
   double max_size_ratio = 1.5;  // front / side image heights may differ at most by this factor
   void check() const;           // throws std::invalid_argument on out-of-range values
@@ -42,7 +42,8 @@ struct ObserveOptions {
 // and 4-channel images are converted. Throws std::invalid_argument naming the input for empty,
 // tiny or huge images, sizes too different, or a front image that is clearly a profile. A view
 // without a face gives an observation with empty parts and warnings that say so.
-FaceObservation observe(const cv::Mat& front, const cv::Mat& side, const ObserveOptions& options = {});
+FaceObservation observe(const cv::Mat& front, const cv::Mat& side,
+                        const ObserveOptions& options = {});
 
 // Front view alone (no side photo, e.g. a frontal face collection): boundary, centre line and
 // front features; midline rows come from the position model (method "position-model", low

@@ -72,7 +72,8 @@ void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& f
     const bool image_right = std::string(name) == "eye_left_center";
     for (const cv::Rect& r : eyes) {
       const cv::Point2d c(r.x + r.width / 2.0, r.y + r.height / 2.0);
-      if ((c.x > face->x + face->width / 2.0) != image_right || c.y > face->y + face->height * 0.6) continue;
+      if ((c.x > face->x + face->width / 2.0) != image_right || c.y > face->y + face->height * 0.6)
+        continue;
       if (it == ff.features.end() || it->second.mirrored) {
         Feature2d f;
         f.px = c;
@@ -85,18 +86,17 @@ void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& f
   }
 }
 
-
 // The trained network's 68 points (iBUG layout; image-left = the subject's right) as the front
 // features, in index coordinates. Image-left eye 36-41, image-right eye 42-47, brows 17-21 and
 // 22-26, nose 27-35, mouth 48-67, chin 8.
 const std::pair<const char*, int> kNetworkPoints[] = {
-    {"eye_right_outer", 36}, {"eye_right_inner", 39}, {"eye_left_inner", 42},
-    {"eye_left_outer", 45},  {"brow_right_outer", 17}, {"brow_right_center", 19},
-    {"brow_right_inner", 21}, {"brow_left_inner", 22}, {"brow_left_center", 24},
-    {"brow_left_outer", 26}, {"mouth_right", 48},     {"mouth_left", 54},
-    {"alar_right", 31},      {"alar_left", 35},       {"nose_bridge", 27},
-    {"nose_tip", 30},        {"subnasale", 33},       {"lip_upper", 51},
-    {"lip_lower", 57},       {"chin_bottom", 8}};
+    {"eye_right_outer", 36},  {"eye_right_inner", 39},  {"eye_left_inner", 42},
+    {"eye_left_outer", 45},   {"brow_right_outer", 17}, {"brow_right_center", 19},
+    {"brow_right_inner", 21}, {"brow_left_inner", 22},  {"brow_left_center", 24},
+    {"brow_left_outer", 26},  {"mouth_right", 48},      {"mouth_left", 54},
+    {"alar_right", 31},       {"alar_left", 35},        {"nose_bridge", 27},
+    {"nose_tip", 30},         {"subnasale", 33},        {"lip_upper", 51},
+    {"lip_lower", 57},        {"chin_bottom", 8}};
 
 // The chin (its most forward point, seed 004's profile chin) lies this share of the way from
 // the lower lip down to the chin's bottom (sim heads: 0.84).
@@ -114,8 +114,8 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 
 // Replaces the filters' eyes, brows, nose, mouth, chin and midline rows by the network's, and
 // the centre line by the one through its symmetric pairs; under Consensus, keeps the filters'
-// midline and every filters' point the network confirms (see FrontLandmarker). Leaves `ff` as it was (with a warning)
-// when the weights cannot be read or no plausible face is found.
+// midline and every filters' point the network confirms (see FrontLandmarker). Leaves `ff` as it
+// was (with a warning) when the weights cannot be read or no plausible face is found.
 void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
                        FrontFeatures& ff, std::vector<std::string>& warn) {
   static const std::optional<FaceLandmarker68> net = []() -> std::optional<FaceLandmarker68> {
@@ -135,7 +135,8 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
     found = net->detect(front, o.haar_dir, 3);
     if (!found) found = net->detect_in(front, face_guess(fb), 6);
   } catch (const std::invalid_argument&) {  // a silhouette too thin to hold a face crop
-    warn.push_back("front landmarks: no face crop in the head's silhouette; the filters' features are used");
+    warn.push_back(
+        "front landmarks: no face crop in the head's silhouette; the filters' features are used");
     return;
   }
   const auto& p = found->points;
@@ -143,8 +144,10 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   const double head_w = boundary_x(fb.right, row) - boundary_x(fb.left, row);
   const double eyes_w = cv::norm(p[45] - p[36]);
   const bool inside = p[36].x > boundary_x(fb.left, row) && p[45].x < boundary_x(fb.right, row);
-  if (!(found->movement_px < 0.05 * eyes_w && eyes_w > 0.3 * head_w && eyes_w < 0.9 * head_w && inside)) {
-    warn.push_back("front landmarks: the network found no plausible face; the filters' features are used");
+  if (!(found->movement_px < 0.05 * eyes_w && eyes_w > 0.3 * head_w && eyes_w < 0.9 * head_w &&
+        inside)) {
+    warn.push_back(
+        "front landmarks: the network found no plausible face; the filters' features are used");
     return;
   }
   const cv::Point2d half(0.5, 0.5);  // network points: continuous, origin at the pixel corner
@@ -162,8 +165,10 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   ff.features["eye_right_center"] = feature(eye_r);
   ff.features["eye_left_center"] = feature(eye_l);
   ff.features["chin"] = feature(p[57] + kChinShare * (p[8] - p[57]));
-  // Centre line through the midpoints of the eyes, mouth corners and nose wings, roll from the eyes.
-  const cv::Point2d mid = ((eye_r + eye_l) / 2 + (p[48] + p[54]) / 2 + (p[31] + p[35]) / 2) / 3.0 - half;
+  // Centre line through the midpoints of the eyes, mouth corners and nose wings, roll from the
+  // eyes.
+  const cv::Point2d mid =
+      ((eye_r + eye_l) / 2 + (p[48] + p[54]) / 2 + (p[31] + p[35]) / 2) / 3.0 - half;
   ff.centre.centre_x = mid.x;
   ff.centre.centre_y = mid.y;
   ff.centre.roll_rad = std::atan(-(eye_l.y - eye_r.y) / (eye_l.x - eye_r.x));
@@ -175,8 +180,8 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   // (iBUG); the base mesh's on the brow's middle and the wing's outermost point. Measured on the
   // sim heads (median offset over 12, fraction of the eye distance): brows 0.05 high, wings 0.07
   // inward and 0.03 low.
-  for (const char* b : {"brow_left_inner", "brow_left_center", "brow_left_outer", "brow_right_inner",
-                        "brow_right_center", "brow_right_outer"})
+  for (const char* b : {"brow_left_inner", "brow_left_center", "brow_left_outer",
+                        "brow_right_inner", "brow_right_center", "brow_right_outer"})
     ff.features[b].px.y += 0.05 * eyes_w;
   ff.features["alar_left"].px += cv::Point2d(0.07, -0.03) * eyes_w;  // image-right wing
   ff.features["alar_right"].px += cv::Point2d(-0.07, -0.03) * eyes_w;
@@ -211,10 +216,12 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   const int blobs = head.blobs;
   if (mask.empty()) {
     warn.push_back(bg.empty() ? cut_off_border(front) : std::string());
-    if (warn.back().empty()) warn.back() = "front view: no head found (no subject distinct from the background)";
+    if (warn.back().empty())
+      warn.back() = "front view: no head found (no subject distinct from the background)";
     return;
   }
-  if (blobs > 1) warn.push_back("front view: " + std::to_string(blobs) + " heads; using the central one");
+  if (blobs > 1)
+    warn.push_back("front view: " + std::to_string(blobs) + " heads; using the central one");
   check_not_profile(mask, warn);
   std::map<std::string, double> rows;
   for (const auto& [n, f] : sp.features)

@@ -17,8 +17,9 @@ void draw_features(cv::Mat& m, const ViewObservation& v) {
   const double fs = std::max(0.3, m.rows / 1400.0);
   for (const auto& [name, f] : v.features) {
     cv::Scalar col = f.mirrored ? cv::Scalar(255, 0, 255)
-                     : f.method.find("position-model") != std::string::npos ? cv::Scalar(0, 255, 255)
-                                                                           : cv::Scalar(0, 0, 255);
+                     : f.method.find("position-model") != std::string::npos
+                         ? cv::Scalar(0, 255, 255)
+                         : cv::Scalar(0, 0, 255);
     cv::circle(m, in(f.px), std::max(2, m.rows / 250), col, cv::FILLED, cv::LINE_AA);
     cv::putText(m, name, in(f.px) + cv::Point2d(4, -3), cv::FONT_HERSHEY_SIMPLEX, fs,
                 cv::Scalar(255, 255, 255), 1, cv::LINE_AA);
@@ -55,8 +56,7 @@ cv::Mat overlay_side(const cv::Mat& side, const FaceObservation& obs) {
 
 cv::Mat overlay_pair(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
   cv::Mat a = overlay_front(front, obs), b = overlay_side(side, obs);
-  if (b.rows != a.rows)
-    cv::resize(b, b, cv::Size(std::max(1, b.cols * a.rows / b.rows), a.rows));
+  if (b.rows != a.rows) cv::resize(b, b, cv::Size(std::max(1, b.cols * a.rows / b.rows), a.rows));
   cv::Mat out;
   cv::hconcat(a, b, out);
   return out;

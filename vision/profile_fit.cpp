@@ -9,7 +9,8 @@ namespace orthoface::vision {
 void ProfileFitOptions::check() const {
   if (num_control < 4 || num_control > 200)
     throw std::invalid_argument("ProfileFitOptions: num_control must be in [4, 200]");
-  if (samples < num_control) throw std::invalid_argument("ProfileFitOptions: samples < num_control");
+  if (samples < num_control)
+    throw std::invalid_argument("ProfileFitOptions: samples < num_control");
   if (iterations < 1 || iterations > 100)
     throw std::invalid_argument("ProfileFitOptions: iterations must be in [1, 100]");
   if (!(search_px > 0) || !(min_search_px > 0) || min_search_px > search_px)

@@ -33,8 +33,10 @@ cv::Mat profile_mask(const ViewObservation& side, bool faces_left) {
     if (std::isnan(front_x[r])) continue;
     const int edge = std::clamp(int(std::lround(front_x[r])), 0, side.width);  // first column
     // behind (faces_left) or one past the last column in front of the profile
-    if (faces_left) mask.row(r).colRange(0, edge).setTo(0);
-    else mask.row(r).colRange(edge, side.width).setTo(0);
+    if (faces_left)
+      mask.row(r).colRange(0, edge).setTo(0);
+    else
+      mask.row(r).colRange(edge, side.width).setTo(0);
   }
   return mask;
 }

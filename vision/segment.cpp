@@ -66,8 +66,10 @@ std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool us
 cv::Mat from_border_model(const cv::Mat& bgr, const SegmentOptions& o) {
   cv::Mat smooth;
   cv::GaussianBlur(bgr, smooth, cv::Size(5, 5), 1.0);
-  std::vector<float> prob = border_histogram(smooth, o.border_fraction, o.sample_left, o.sample_right);
-  for (float& d : prob) d = 1.f - std::min(1.f, d / 4.f);  // density >= 4x uniform: surely background
+  std::vector<float> prob =
+      border_histogram(smooth, o.border_fraction, o.sample_left, o.sample_right);
+  for (float& d : prob)
+    d = 1.f - std::min(1.f, d / 4.f);  // density >= 4x uniform: surely background
   cv::Mat p(bgr.size(), CV_32F);
   for (int r = 0; r < bgr.rows; ++r) {
     const cv::Vec3b* s = smooth.ptr<cv::Vec3b>(r);

@@ -5,11 +5,11 @@
 namespace orthoface::vision {
 
 struct SegmentOptions {
-  double border_fraction = 0.04;  // width of the image strips that sample the background colours
+  double border_fraction = 0.04;    // width of the image strips that sample the background colours
   double min_head_fraction = 0.01;  // a head blob smaller than this share of the image is "none"
   bool sample_left = true;   // sample the left / right border strips for the background model
   bool sample_right = true;  // (off: that border is suspected to cut through the subject)
-  void check() const;             // throws std::invalid_argument on out-of-range values
+  void check() const;        // throws std::invalid_argument on out-of-range values
 };
 
 // Probability-like map (CV_32F, 0 = background, 1 = subject) of where the subject is.

@@ -34,7 +34,8 @@ int argmin_x(const std::vector<cv::Point2d>& c, int a, int b) {
   return best;
 }
 
-// Lab colour (`lab` holds the box starting at `origin`) a few pixels inside the profile (the head is to the right of a left-facing curve).
+// Lab colour (`lab` holds the box starting at `origin`) a few pixels inside the profile (the head
+// is to the right of a left-facing curve).
 cv::Vec3f inside_colour(const cv::Mat& lab, cv::Point origin, const std::vector<cv::Point2d>& c,
                         int i, double d) {
   const int j0 = std::max(0, i - 2), j1 = std::min(int(c.size()) - 1, i + 2);
@@ -62,7 +63,8 @@ int hairline(const cv::Mat& bgr, const std::vector<cv::Point2d>& c, int start, d
   const int nref = std::max(5, int(0.05 * h));
   cv::Vec3f ref(0, 0, 0);
   int cnt = 0;
-  for (int i = start; i > start - nref && i >= 0; --i, ++cnt) ref += inside_colour(lab, box.tl(), c, i, inset);
+  for (int i = start; i > start - nref && i >= 0; --i, ++cnt)
+    ref += inside_colour(lab, box.tl(), c, i, inset);
   if (cnt == 0) return -1;
   ref *= 1.0f / cnt;
   int run = 0;
@@ -130,14 +132,16 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   const int tip = nose_tip_index(c, H);
   sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
   // Nasion: deepest point behind the chord from the brow (glabella) to the tip.
-  const int g0 = first_row_at_least(c, c[tip].y - 0.42 * H), g1 = first_row_at_least(c, c[tip].y - 0.22 * H);
+  const int g0 = first_row_at_least(c, c[tip].y - 0.42 * H),
+            g1 = first_row_at_least(c, c[tip].y - 0.22 * H);
   const int glabella = argmin_x(c, g0, std::max(g0, g1));
   double depth = 0;
   deepest_behind_chord(c, glabella, tip, &depth);
   int nasion = glabella;  // the most posterior point between brow and tip
   for (int i = glabella; i < tip; ++i)
     if (c[i].x > c[nasion].x) nasion = i;
-  sp.features["nose_bridge"] = make(c[nasion], conf * std::min(1.0, depth / 2.0), "profile-concavity");
+  sp.features["nose_bridge"] =
+      make(c[nasion], conf * std::min(1.0, depth / 2.0), "profile-concavity");
   const int under = under_chin(c, tip, H);
   if (under < 0) {
     sp.warnings.push_back("side view: chin not found (profile ends before the throat)");
@@ -152,8 +156,10 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   // The chin is the last projecting point before the under-chin; a retruded chin that is no
   // local extremum is taken where the tangent turns vertical above the under-chin.
   int pog = -1;
-  if (!mins.empty() && c[mins.back()].y > c[tip].y + 0.2 * H) pog = mins.back(), mins.pop_back();
-  else pog = tangent_closest(c, std::max(tip, under - int(0.12 * H)), under, M_PI / 2);
+  if (!mins.empty() && c[mins.back()].y > c[tip].y + 0.2 * H)
+    pog = mins.back(), mins.pop_back();
+  else
+    pog = tangent_closest(c, std::max(tip, under - int(0.12 * H)), under, M_PI / 2);
   sp.features["chin"] = make(c[pog], conf, "profile-extremum");
   const int menton = tangent_closest(c, pog, under, M_PI / 4);  // down-and-back at 45 deg
   sp.features["chin_bottom"] = make(c[menton], conf * 0.8, "profile-tangent");
@@ -191,8 +197,8 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
       sp.features["lip_lower"] = make(c[run_bottom], conf * 0.7, "profile-flat-ends");
     } else {
       const int mid = (lu + pog) / 2;  // lower lip not standing out: placed by position
-      sp.features["lip_lower"] = make(c[argmin_x(c, lu + (pog - lu) / 4, mid)], conf * 0.4,
-                                      "profile-position-model");
+      sp.features["lip_lower"] =
+          make(c[argmin_x(c, lu + (pog - lu) / 4, mid)], conf * 0.4, "profile-position-model");
       sp.warnings.push_back("side view: lower lip does not stand out; placed by position");
     }
   }

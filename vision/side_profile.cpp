@@ -55,8 +55,9 @@ std::vector<cv::Point2d> fitted_curve(const std::vector<cv::Point2d>& chain, con
   // Edges near the chain only: its box plus the fit's search range and the filters' support.
   const int pad = 12;
   const cv::Rect box = cv::boundingRect(std::vector<cv::Point2f>(chain.begin(), chain.end()));
-  const EdgeImage edges = edge_image(prob, {0.7, 0.1}, cv::Rect(box.x - pad, box.y - pad,
-                                                                box.width + 2 * pad, box.height + 2 * pad));
+  const EdgeImage edges =
+      edge_image(prob, {0.7, 0.1},
+                 cv::Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad));
   const ProfileFit fit = fit_profile_to_edges(init, edges, f);
   *support = fit.support;
   return resample(bspline_samples(fit.spline, std::max(50, int(len))), 1.0);
@@ -106,7 +107,11 @@ double skin_offset(const cv::Mat& mask, const cv::Mat& bgr, const RowExtent& e, 
   double mx = 0, mn = 0, depth = 0;
   for (int r = r0; r <= r1; ++r)
     if (e.left[r] >= 0) depth = std::max(depth, double(e.right[r] - e.left[r]));
-  struct Sample { int c; uchar luma; float skin; };
+  struct Sample {
+    int c;
+    uchar luma;
+    float skin;
+  };
   std::vector<Sample> samples;
   for (int r = r0; r <= r1; r += 2) {
     const uchar* m = mask.ptr<uchar>(r);

@@ -31,7 +31,8 @@ Result run(const std::string& binary, const std::string& args, const fs::path& w
   const std::string cmd = "cd '" + work.string() + "' && " + binary + " " + args + " >'" +
                           (work / "out.txt").string() + "' 2>'" + (work / "err.txt").string() + "'";
   const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(work / "err.txt"), slurp(work / "out.txt")};
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(work / "err.txt"),
+          slurp(work / "out.txt")};
 }
 
 Result orthoface(const std::string& args, const fs::path& work) {
@@ -73,7 +74,8 @@ TEST(AnalysisCli, SegmentRejectsUnknownPointNames) {
   model::write_mesh(sim::make_head(sim::head_params(0), o).mesh, (w / "head.ply").string());
   std::ofstream(w / "fp.json") << R"({"9.3": [0, -20, 110], "nose_tipp": [0, 0, 90]})";
   expect_clean_error(orthoface("segment head.ply --points fp.json -o seg", w), "nose_tipp");
-  std::ofstream(w / "good.json") << R"({"9.3": [0, -20, 110], "10.1": [80, 0, 0], "10.2": [-80, 0, 0]})";
+  std::ofstream(w / "good.json")
+      << R"({"9.3": [0, -20, 110], "10.1": [80, 0, 0], "10.2": [-80, 0, 0]})";
   const Result ok = orthoface("segment head.ply --points good.json -o seg", w);
   ASSERT_EQ(ok.code, 0) << ok.err;
   EXPECT_TRUE(fs::exists(w / "seg" / "membership.csv"));
@@ -110,11 +112,13 @@ TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   const Result one = run("'" + batch.string() + "'", "similarity meshes -o one", w);
   ASSERT_EQ(one.code, 0) << one.err;
   if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
-  const Result two = run("mpirun -np 2 --allow-run-as-root --oversubscribe '" + batch.string() + "'",
-                         "similarity meshes -o two", w);
+  const Result two =
+      run("mpirun -np 2 --allow-run-as-root --oversubscribe '" + batch.string() + "'",
+          "similarity meshes -o two", w);
   ASSERT_EQ(two.code, 0) << two.err;
   EXPECT_NE(two.err.find("4/4"), std::string::npos) << two.err;  // progress bar reached the end
-  EXPECT_EQ(slurp(w / "one" / "similarity_shape_index.csv"), slurp(w / "two" / "similarity_shape_index.csv"));
+  EXPECT_EQ(slurp(w / "one" / "similarity_shape_index.csv"),
+            slurp(w / "two" / "similarity_shape_index.csv"));
   expect_clean_error(run("'" + batch.string() + "'", "similarity nowhere -o x", w), "nowhere");
 }
 

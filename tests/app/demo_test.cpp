@@ -25,8 +25,8 @@ std::string slurp(const fs::path& p) {
 
 // Exit code of `orthoface <args>` run in `work`; stdout / stderr land in work/out.txt, err.txt.
 int run_demo(const std::string& args, const fs::path& work) {
-  const std::string cmd = "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args +
-                          " >out.txt 2>err.txt";
+  const std::string cmd =
+      "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args + " >out.txt 2>err.txt";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -53,7 +53,8 @@ TEST(DemoCommand, WritesAContactSheetAndOneFolderPerSubject) {
     ASSERT_NE(line, std::string::npos) << out;
     double psnr = 0, ssim = 0;
     const size_t at = out.find("yaw 45: PSNR", line);
-    ASSERT_EQ(std::sscanf(out.c_str() + at, "yaw 45: PSNR %lf dB, SSIM %lf", &psnr, &ssim), 2) << out;
+    ASSERT_EQ(std::sscanf(out.c_str() + at, "yaw 45: PSNR %lf dB, SSIM %lf", &psnr, &ssim), 2)
+        << out;
     EXPECT_GT(psnr, 27.0) << seed;
     EXPECT_GT(ssim, 0.91) << seed;
   }

@@ -59,9 +59,10 @@ class Reconstruct : public ::testing::Test {
 fs::path* Reconstruct::work_ = nullptr;
 
 TEST_F(Reconstruct, WithRigWritesFolderAndEvalMeasuresIt) {
-  const Result r = run("reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml "
-                       "--out rec --k 6",
-                       *work_);
+  const Result r =
+      run("reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml "
+          "--out rec --k 6",
+          *work_);
   ASSERT_EQ(r.code, 0) << r.err;
   for (const char* f : {"head.obj", "head.mtl", "head.png", "front.png", "side.png", "rig.yaml",
                         "landmarks.json", "observation.json", "report.json"})
@@ -82,21 +83,24 @@ TEST_F(Reconstruct, WithRigWritesFolderAndEvalMeasuresIt) {
 }
 
 TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
-  const Result r = run("reconstruct --front sim/front.png --side sim/side.png --out norig "
-                       "--method interpolate",
-                       *work_);
+  const Result r =
+      run("reconstruct --front sim/front.png --side sim/side.png --out norig "
+          "--method interpolate",
+          *work_);
   ASSERT_EQ(r.code, 0) << r.err;
   const auto report = nlohmann::json::parse(slurp(*work_ / "norig" / "report.json"));
   EXPECT_NE(report["scale"].get<std::string>().find("no rig file"), std::string::npos);
   EXPECT_EQ(report["rig_source"], "default (no rig file)");
   EXPECT_EQ(report["front_landmarker"], "consensus");
-  EXPECT_TRUE(report["photographed_side_yaw_sign"] == 1.0 || report["photographed_side_yaw_sign"] == -1.0);
+  EXPECT_TRUE(report["photographed_side_yaw_sign"] == 1.0 ||
+              report["photographed_side_yaw_sign"] == -1.0);
 }
 
 TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   const std::string ok = "--front sim/front.png --side sim/side.png --out bad_out";
   expect_clean_error("reconstruct --side sim/side.png --out bad_out", "--front");
-  expect_clean_error("reconstruct --front missing.png --side sim/side.png --out bad_out", "missing.png");
+  expect_clean_error("reconstruct --front missing.png --side sim/side.png --out bad_out",
+                     "missing.png");
   expect_clean_error("reconstruct " + ok + " --k 0", "--k");
   expect_clean_error("reconstruct " + ok + " --rig sim/rig.yaml --k 100000", "landmark count");
   expect_clean_error("reconstruct " + ok + " --method best", "--method");
@@ -108,7 +112,8 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   std::ofstream(*work_ / "bad_rig.yaml") << "%YAML:1.0\n---\northoface_rig: 1\nfront: [1, 2\n";
   expect_clean_error("reconstruct " + ok + " --rig bad_rig.yaml", "bad_rig.yaml");
   // Photos without a face: nothing to reconstruct.
-  cv::imwrite((*work_ / "blank.png").string(), cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200)));
+  cv::imwrite((*work_ / "blank.png").string(),
+              cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200)));
   expect_clean_error("reconstruct --front blank.png --side blank.png --out bad_out", "");
 }
 

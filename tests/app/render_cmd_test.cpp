@@ -29,8 +29,8 @@ std::string slurp(const fs::path& p) {
 }
 
 int run(const std::string& args, const fs::path& work) {
-  const std::string cmd = "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args +
-                          " >out.txt 2>err.txt";
+  const std::string cmd =
+      "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args + " >out.txt 2>err.txt";
   const int status = std::system(cmd.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
@@ -53,14 +53,17 @@ TEST(RenderCommand, RendersANewViewCloseToTheTruth) {
   const fs::path work = testing::temp_dir("app_render");
   capture::RigCalibration rig;
   const model::TriMesh truth_mesh = make_folder(work / "rec", rig);
-  ASSERT_EQ(run("render rec --yaw 40 --blend weighted -o view.png", work), 0) << slurp(work / "err.txt");
+  ASSERT_EQ(run("render rec --yaw 40 --blend weighted -o view.png", work), 0)
+      << slurp(work / "err.txt");
   const cv::Mat view = cv::imread((work / "view.png").string());
   ASSERT_EQ(view.size(), cv::Size(320, 240));
   const render::RenderResult truth =
       render::render_once(truth_mesh, capture::camera_at(rig.front, 40 * M_PI / 180, 0, 1000));
   EXPECT_GT(render::psnr(truth.image, view, truth.mask), 30.0);
 
-  ASSERT_EQ(run("render rec --yaw -30 --pitch 10 --size 160x120 --background transparent -o t.png", work), 0)
+  ASSERT_EQ(
+      run("render rec --yaw -30 --pitch 10 --size 160x120 --background transparent -o t.png", work),
+      0)
       << slurp(work / "err.txt");
   const cv::Mat t = cv::imread((work / "t.png").string(), cv::IMREAD_UNCHANGED);
   ASSERT_EQ(t.type(), CV_8UC4);
@@ -73,8 +76,10 @@ TEST(RenderCommand, TurntableAndExports) {
   const fs::path work = testing::temp_dir("app_render_turntable");
   capture::RigCalibration rig;
   make_folder(work / "rec", rig);
-  ASSERT_EQ(run("render rec --turntable 3 -o sheet.png --export head.glb", work), 0) << slurp(work / "err.txt");
-  for (const char* f : {"sheet.png", "sheet_yaw-090.png", "sheet_yaw+000.png", "sheet_yaw+090.png", "head.glb"})
+  ASSERT_EQ(run("render rec --turntable 3 -o sheet.png --export head.glb", work), 0)
+      << slurp(work / "err.txt");
+  for (const char* f :
+       {"sheet.png", "sheet_yaw-090.png", "sheet_yaw+000.png", "sheet_yaw+090.png", "head.glb"})
     EXPECT_TRUE(fs::exists(work / f)) << f;
   ASSERT_EQ(run("render rec --export head.obj", work), 0) << slurp(work / "err.txt");
   EXPECT_TRUE(fs::exists(work / "head.png"));
@@ -89,7 +94,8 @@ TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {
       << R"({"landmarks": {"eye_left_outer": {"xyz_mm": [40, 20, 60]},
            "eye_right_outer": {"xyz_mm": [-40, 20, 60]}, "mouth_left": {"xyz_mm": [25, -50, 70]},
            "mouth_right": {"xyz_mm": [-25, -50, 70]}}})";
-  ASSERT_EQ(run("render rec --yaw -80 --no-float -o plain.png", work), 0) << slurp(work / "err.txt");
+  ASSERT_EQ(run("render rec --yaw -80 --no-float -o plain.png", work), 0)
+      << slurp(work / "err.txt");
   ASSERT_EQ(run("render rec --yaw -80 --no-float --mirror -o mirrored.png", work), 0)
       << slurp(work / "err.txt");
   const cv::Mat plain = cv::imread((work / "plain.png").string());

@@ -34,8 +34,8 @@ std::string slurp(const fs::path& p) {
 // Runs `orthoface <args>` with stdout / stderr captured in `work`.
 ProcessResult run(const std::string& args, const fs::path& work) {
   const fs::path o = work / "stdout.txt", e = work / "stderr.txt";
-  const std::string cmd = std::string("cd '") + work.string() + "' && '" + ORTHOFACE_BINARY +
-                          "' " + args + " >'" + o.string() + "' 2>'" + e.string() + "'";
+  const std::string cmd = std::string("cd '") + work.string() + "' && '" + ORTHOFACE_BINARY + "' " +
+                          args + " >'" + o.string() + "' 2>'" + e.string() + "'";
   const int status = std::system(cmd.c_str());
   ProcessResult r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -60,15 +60,18 @@ std::vector<std::string> files_in(const fs::path& dir) {
 
 TEST(SimulateCommand, WritesTheFullTruthFolder) {
   const fs::path work = testing::temp_dir("app_simulate_ok");
-  const ProcessResult r = run("simulate --subject 1 --out sim1 --size 320x240 --px-per-mm 0.8", work);
+  const ProcessResult r =
+      run("simulate --subject 1 --out sim1 --size 320x240 --px-per-mm 0.8", work);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(count_lines(r.out), 1) << r.out;
   EXPECT_TRUE(r.err.empty()) << r.err;
   const fs::path dir = work / "sim1";
-  const std::vector<std::string> expected = {
-      "background.png", "background_side.png", "front.png",   "front_mask.png",
-      "landmarks.json", "rig.yaml",            "side.png",    "side_mask.png",
-      "truth.mtl",      "truth.obj",           "truth.png"};
+  const std::vector<std::string> expected = {"background.png", "background_side.png",
+                                             "front.png",      "front_mask.png",
+                                             "landmarks.json", "rig.yaml",
+                                             "side.png",       "side_mask.png",
+                                             "truth.mtl",      "truth.obj",
+                                             "truth.png"};
   EXPECT_EQ(files_in(dir), expected);
   const cv::Mat front = cv::imread((dir / "front.png").string());
   ASSERT_EQ(front.size(), cv::Size(320, 240));
@@ -98,10 +101,11 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
 TEST(SimulateCommand, OptionsChangeThePhotos) {
   const fs::path work = testing::temp_dir("app_simulate_options");
   ASSERT_EQ(run("simulate --subject 2 --out a --size 200x150 --px-per-mm 0.5", work).code, 0);
-  const ProcessResult r = run("simulate --subject 2 --out b --size 200x150 --rig perspective --focal 500 "
-                    "--noise 4 --blur 1 --background cluttered --light 0.4,0.8,1,0,-1 "
-                    "--misalign 2,3 --seed 5",
-                    work);
+  const ProcessResult r =
+      run("simulate --subject 2 --out b --size 200x150 --rig perspective --focal 500 "
+          "--noise 4 --blur 1 --background cluttered --light 0.4,0.8,1,0,-1 "
+          "--misalign 2,3 --seed 5",
+          work);
   ASSERT_EQ(r.code, 0) << r.err;
   const cv::Mat a = cv::imread((work / "a" / "front.png").string());
   const cv::Mat b = cv::imread((work / "b" / "front.png").string());
@@ -127,7 +131,8 @@ void expect_clean_failures(const std::vector<std::string>& cases, const std::str
   const fs::path work = testing::temp_dir(name);
   std::ofstream(work / "a_file") << "keep";
   fs::create_directories(work / "corrupt" / "lee_perry_smith_head");  // a scan that is garbage
-  std::ofstream(work / "corrupt" / "lee_perry_smith_head" / "LeePerrySmith.obj") << "v 1 2\nf 9 9 9\n";
+  std::ofstream(work / "corrupt" / "lee_perry_smith_head" / "LeePerrySmith.obj")
+      << "v 1 2\nf 9 9 9\n";
   for (const std::string& c : cases) {
     const ProcessResult r = run(c, work);
     EXPECT_NE(r.code, 0) << c;
@@ -139,52 +144,60 @@ void expect_clean_failures(const std::vector<std::string>& cases, const std::str
 }
 
 TEST(SimulateCommand, BadArgumentsGiveOneErrorLineAndNoFiles) {
-  expect_clean_failures({
-      "simulate --subject abc --out out",
-      "simulate --subject -3 --out out",
-      "simulate --subject 1.5 --out out",
-      "simulate --subject 1 --out a_file",
-      "simulate --subject 1 --out out --size 0x0",
-      "simulate --subject 1 --out out --size 100000x100000",
-      "simulate --subject 1 --out out --size 640",
-      "simulate --subject 1 --out out --frobnicate",
-      "simulate --subject 1 --out out extra_argument",
-  }, "app_simulate_bad_args");
+  expect_clean_failures(
+      {
+          "simulate --subject abc --out out",
+          "simulate --subject -3 --out out",
+          "simulate --subject 1.5 --out out",
+          "simulate --subject 1 --out a_file",
+          "simulate --subject 1 --out out --size 0x0",
+          "simulate --subject 1 --out out --size 100000x100000",
+          "simulate --subject 1 --out out --size 640",
+          "simulate --subject 1 --out out --frobnicate",
+          "simulate --subject 1 --out out extra_argument",
+      },
+      "app_simulate_bad_args");
 }
 
 TEST(SimulateCommand, BadSubjectOrScanGivesOneErrorLineAndNoFiles) {
-  expect_clean_failures({
-      "simulate --subject 1",
-      "simulate --out out",
-      "simulate --subject 1 --scan lee-perry-smith --out out",
-      "simulate --scan nobody --out out",
-      "simulate --scan lee-perry-smith --data /nonexistent --out out",
-      "simulate --scan lee-perry-smith --data corrupt --out out",
-  }, "app_simulate_bad_subject");
+  expect_clean_failures(
+      {
+          "simulate --subject 1",
+          "simulate --out out",
+          "simulate --subject 1 --scan lee-perry-smith --out out",
+          "simulate --scan nobody --out out",
+          "simulate --scan lee-perry-smith --data /nonexistent --out out",
+          "simulate --scan lee-perry-smith --data corrupt --out out",
+      },
+      "app_simulate_bad_subject");
 }
 
 TEST(SimulateCommand, BadValuesGiveOneErrorLineAndNoFiles) {
-  expect_clean_failures({
-      "simulate --subject 1 --out out --rig fisheye",
-      "simulate --subject 1 --out out --noise -2",
-      "simulate --subject 1 --out out --blur lots",
-      "simulate --subject 1 --out out --background jungle",
-      "simulate --subject 1 --out out --light 1",
-      "simulate --subject 1 --out out --light 1,0.5,0,0,0",
-      "simulate --subject 1 --out out --misalign 45",
-      "simulate --subject 1 --out out --distance 10 --rig perspective",
-  }, "app_simulate_bad_values");
+  expect_clean_failures(
+      {
+          "simulate --subject 1 --out out --rig fisheye",
+          "simulate --subject 1 --out out --noise -2",
+          "simulate --subject 1 --out out --blur lots",
+          "simulate --subject 1 --out out --background jungle",
+          "simulate --subject 1 --out out --light 1",
+          "simulate --subject 1 --out out --light 1,0.5,0,0,0",
+          "simulate --subject 1 --out out --misalign 45",
+          "simulate --subject 1 --out out --distance 10 --rig perspective",
+      },
+      "app_simulate_bad_values");
 }
 
 TEST(SimulateCommand, ScanRendersWhenTheDataIsPresent) {
   const std::string dir = testing::shared_data("lee_perry_smith_head");
   if (dir.empty()) GTEST_SKIP() << "no ../shared/data/lee_perry_smith_head";
   const fs::path work = testing::temp_dir("app_simulate_scan");
-  const ProcessResult r = run("simulate --scan lee-perry-smith --data '" + std::string(ORTHOFACE_DATA_DIR) +
-                        "' --out scan --size 320x240 --px-per-mm 0.8",
-                    work);
+  const ProcessResult r =
+      run("simulate --scan lee-perry-smith --data '" + std::string(ORTHOFACE_DATA_DIR) +
+              "' --out scan --size 320x240 --px-per-mm 0.8",
+          work);
   ASSERT_EQ(r.code, 0) << r.err;
-  const cv::Mat mask = cv::imread((work / "scan" / "front_mask.png").string(), cv::IMREAD_GRAYSCALE);
+  const cv::Mat mask =
+      cv::imread((work / "scan" / "front_mask.png").string(), cv::IMREAD_GRAYSCALE);
   EXPECT_GT(cv::countNonZero(mask), 0.1 * mask.total());
 }
 

@@ -42,13 +42,14 @@ TEST(CalibrateRig, RecoversSimulatedRigPose) {
   const Eigen::Isometry3d t = true_side_from_front(truth);
   const double rot_deg = rotation_error_deg(rep.side_from_front, t);
   const double trans_mm = (rep.side_from_front.translation() - t.translation()).norm();
-  std::printf("calibration (sim rig, %d/%d/%d views): rms front %.3f side %.3f stereo %.3f px, "
-              "rotation error %.4f deg, translation error %.3f mm (of %.1f), fx %.2f/%.2f (true %.0f), "
-              "predicted sd %.2f %.2f %.2f mm\n",
-              rep.views_front, rep.views_side, rep.views_shared, rep.rms_front_px, rep.rms_side_px,
-              rep.rms_stereo_px, rot_deg, trans_mm, t.translation().norm(), rep.rig.front.fx,
-              rep.rig.side.fx, truth.front.fx, rep.translation_sd_mm.x(), rep.translation_sd_mm.y(),
-              rep.translation_sd_mm.z());
+  std::printf(
+      "calibration (sim rig, %d/%d/%d views): rms front %.3f side %.3f stereo %.3f px, "
+      "rotation error %.4f deg, translation error %.3f mm (of %.1f), fx %.2f/%.2f (true %.0f), "
+      "predicted sd %.2f %.2f %.2f mm\n",
+      rep.views_front, rep.views_side, rep.views_shared, rep.rms_front_px, rep.rms_side_px,
+      rep.rms_stereo_px, rot_deg, trans_mm, t.translation().norm(), rep.rig.front.fx,
+      rep.rig.side.fx, truth.front.fx, rep.translation_sd_mm.x(), rep.translation_sd_mm.y(),
+      rep.translation_sd_mm.z());
   EXPECT_EQ(rep.views_shared, 5);
   EXPECT_LT(rep.rms_stereo_px, 0.5);
   // 13 views per camera at 640x480 give the focal length to ~1%, which bounds the baseline's
@@ -110,7 +111,8 @@ TEST(CalibrateRig, OneSharedViewLeavesTranslationLoose) {
   one_s.resize(17);
   const auto one = calibrate_rig(one_f, one_s, o);
   EXPECT_GT(one.translation_sd_mm.maxCoeff(), 1.5 * five.translation_sd_mm.maxCoeff());
-  o.max_translation_sd_mm = 0.5 * (one.translation_sd_mm.maxCoeff() + five.translation_sd_mm.maxCoeff());
+  o.max_translation_sd_mm =
+      0.5 * (one.translation_sd_mm.maxCoeff() + five.translation_sd_mm.maxCoeff());
   try {
     calibrate_rig(one_f, one_s, o);
     FAIL() << "expected an error";

@@ -65,7 +65,8 @@ TEST(CameraAt, SideCameraSeesTheFaceOnImageLeft) {
   EXPECT_NEAR(nose.y(), 240.0, 1e-9);
   EXPECT_TRUE(view_direction(rig.side).isApprox(Eigen::Vector3d(-1, 0, 0), 1e-12));
   // The subject's left ear (+x) is nearer the side camera than the right ear.
-  EXPECT_LT(depth(rig.side, Eigen::Vector3d(70, 0, 0)), depth(rig.side, Eigen::Vector3d(-70, 0, 0)));
+  EXPECT_LT(depth(rig.side, Eigen::Vector3d(70, 0, 0)),
+            depth(rig.side, Eigen::Vector3d(-70, 0, 0)));
 }
 
 // seed 004 eq. 1: in the ideal rig the front column gives x, the side column gives z, and a
@@ -217,8 +218,10 @@ TEST(RigFile, MalformedFieldsThrowNamingTheField) {
       {"data: [ 2.", "data: [ -2.", "camera_matrix"},
       {"front:", "frontal:", "missing camera section"},
       {"rows: 3", "rows: 1", "camera_matrix"},
-      {"cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ 1.",
-       "cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ 2.",
+      {"cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ "
+       "1.",
+       "cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ "
+       "2.",
        "rotation"},
       {"orthoface_rig: 1", "orthoface_rigs: 1", "orthoface_rig"},
   };

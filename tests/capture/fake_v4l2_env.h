@@ -50,8 +50,8 @@ inline int rerun_under_fake_v4l2(const std::string& devices = kFakeDevices) {
 }  // namespace orthoface::testing
 
 // In the parent: runs this test again in a child under the fake, checks it passed, returns.
-#define RUN_IN_FAKE_V4L2_CHILD()                                                          \
-  if (!orthoface::testing::under_fake_v4l2()) {                                           \
+#define RUN_IN_FAKE_V4L2_CHILD()                                                               \
+  if (!orthoface::testing::under_fake_v4l2()) {                                                \
     EXPECT_EQ(orthoface::testing::rerun_under_fake_v4l2(), 0) << "test under the fake failed"; \
-    return;                                                                               \
+    return;                                                                                    \
   }

@@ -19,8 +19,7 @@ TEST(LibcameraCamera, NoCamerasGivesClearMessage) {
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no libcamera cameras found"), std::string::npos);
-    EXPECT_NE(std::string(e.what()).find("libcamera:/base/soc/i2c0/imx219@10"),
-              std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("libcamera:/base/soc/i2c0/imx219@10"), std::string::npos);
   }
 }
 

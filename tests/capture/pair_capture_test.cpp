@@ -58,8 +58,7 @@ TEST(PairCapture, BadInputIsRejected) {
   EXPECT_TRUE(same_device("/dev/video0", "/dev/./video0"));
   EXPECT_FALSE(same_device("/dev/video0", "/dev/video1"));
   EXPECT_THROW(PairCapture("test:a", "test:a", small()), std::invalid_argument);
-  EXPECT_THROW(PairCapture("test:a", "/dev/video_orthoface_missing", small()),
-               std::runtime_error);
+  EXPECT_THROW(PairCapture("test:a", "/dev/video_orthoface_missing", small()), std::runtime_error);
   EXPECT_THROW(PairCapture("test:a", "test:nobody", small()), std::runtime_error);
   PairCaptureOptions bad = small();
   bad.fps = 0;

@@ -70,7 +70,8 @@ int free_port() {
 }
 
 bool wait_for(int port, const std::string& path, const std::string& needle, double seconds) {
-  for (auto t = std::chrono::steady_clock::now(); std::chrono::steady_clock::now() - t < std::chrono::duration<double>(seconds);) {
+  for (auto t = std::chrono::steady_clock::now();
+       std::chrono::steady_clock::now() - t < std::chrono::duration<double>(seconds);) {
     if (http_get(port, path).find(needle) != std::string::npos) return true;
     std::this_thread::sleep_for(100ms);
   }
@@ -88,17 +89,25 @@ TEST(StationCommand, BadInputGivesOneErrorLine) {
   const auto dir = orthoface::testing::temp_dir("station_bad");
   CmdResult r = orthoface("station --front sim:1/front --side sim:1/front --out " + dir.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("error: station: --front and --side are the same device"), std::string::npos) << r.output;
-  r = orthoface("station --front /dev/video_orthoface_missing --side sim:1/side --duration 1 --output http:" +
-                std::to_string(free_port()) + " --out " + dir.string());
+  EXPECT_NE(r.output.find("error: station: --front and --side are the same device"),
+            std::string::npos)
+      << r.output;
+  r = orthoface(
+      "station --front /dev/video_orthoface_missing --side sim:1/side --duration 1 --output http:" +
+      std::to_string(free_port()) + " --out " + dir.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("error: camera /dev/video_orthoface_missing: no such device"), std::string::npos) << r.output;
-  r = orthoface("station --front sim:1/front --side sim:1/side --output window --out " + dir.string(), "DISPLAY=");
+  EXPECT_NE(r.output.find("error: camera /dev/video_orthoface_missing: no such device"),
+            std::string::npos)
+      << r.output;
+  r = orthoface(
+      "station --front sim:1/front --side sim:1/side --output window --out " + dir.string(),
+      "DISPLAY=");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("no display"), std::string::npos) << r.output;
   r = orthoface("station --front sim:1/front --side sim:1/side --output vga --out " + dir.string());
   EXPECT_EQ(r.code, 1);
-  r = orthoface("station --front sim:1/front --side sim:1/side --output v4l2:/dev/null --out " + dir.string());
+  r = orthoface("station --front sim:1/front --side sim:1/side --output v4l2:/dev/null --out " +
+                dir.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("not a video output device"), std::string::npos) << r.output;
 }
@@ -114,20 +123,25 @@ TEST(StationCommand, OccupiedPortIsAnError) {
   getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
   const int port = ntohs(a.sin_port);
   const auto dir = orthoface::testing::temp_dir("station_port");
-  const CmdResult r = orthoface("station --front sim:1/front --side sim:1/side --duration 1 --output http:" +
-                          std::to_string(port) + " --out " + dir.string());
+  const CmdResult r =
+      orthoface("station --front sim:1/front --side sim:1/side --duration 1 --output http:" +
+                std::to_string(port) + " --out " + dir.string());
   close(fd);
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("error: http: port " + std::to_string(port) + " on 127.0.0.1 is already in use"),
-            std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("error: http: port " + std::to_string(port) +
+                          " on 127.0.0.1 is already in use"),
+            std::string::npos)
+      << r.output;
 }
 
 TEST(CaptureCommand, SavesOneSynchronizedPair) {
   const auto dir = orthoface::testing::temp_dir("capture_cmd");
-  const CmdResult r = orthoface("capture --front sim:2/front --side sim:2/side --size 320x240 --no-reconstruct --out " +
-                          dir.string());
+  const CmdResult r = orthoface(
+      "capture --front sim:2/front --side sim:2/side --size 320x240 --no-reconstruct --out " +
+      dir.string());
   ASSERT_EQ(r.code, 0) << r.output;
-  const cv::Mat f = cv::imread((dir / "pair/front.png").string()), s = cv::imread((dir / "pair/side.png").string());
+  const cv::Mat f = cv::imread((dir / "pair/front.png").string()),
+                s = cv::imread((dir / "pair/side.png").string());
   EXPECT_EQ(f.size(), cv::Size(320, 240));
   EXPECT_EQ(s.size(), cv::Size(320, 240));
   // The sim side camera runs 7 ms behind with +-0.5 ms jitter; a loaded machine adds delivery
@@ -138,7 +152,8 @@ TEST(CaptureCommand, SavesOneSynchronizedPair) {
   const double skew_ms = std::stod(json.substr(at + 10));
   EXPECT_NEAR(skew_ms, 7.0, 1.5) << json;
   EXPECT_FALSE(fs::exists(dir / "pair.tmp"));
-  const CmdResult again = orthoface("capture --front sim:2/front --side sim:2/side --no-reconstruct --out " + dir.string());
+  const CmdResult again = orthoface(
+      "capture --front sim:2/front --side sim:2/side --no-reconstruct --out " + dir.string());
   EXPECT_EQ(again.code, 1);  // never overwrites a pair
   EXPECT_NE(again.output.find("already exists"), std::string::npos);
 }
@@ -149,10 +164,12 @@ TEST(CalibrateCommand, BadInputGivesOneErrorLine) {
   fs::create_directories(dir / "s");
   cv::imwrite((dir / "f/001.png").string(), cv::Mat(48, 64, CV_8UC3, cv::Scalar::all(200)));
   CmdResult r = orthoface("calibrate --front-images " + (dir / "f").string() + " --side-images " +
-                    (dir / "s").string() + " --out " + (dir / "rig.yaml").string());
+                          (dir / "s").string() + " --out " + (dir / "rig.yaml").string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.output.find("error: calibrate_rig: 1 front images but 0 side"), std::string::npos) << r.output;
-  r = orthoface("calibrate --front-images " + (dir / "nope").string() + " --side-images x --out r.yaml");
+  EXPECT_NE(r.output.find("error: calibrate_rig: 1 front images but 0 side"), std::string::npos)
+      << r.output;
+  r = orthoface("calibrate --front-images " + (dir / "nope").string() +
+                " --side-images x --out r.yaml");
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("not a folder"), std::string::npos) << r.output;
   r = orthoface("calibrate --front-images a --front sim:0/front --out r.yaml");
@@ -170,8 +187,9 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
   const int port = free_port();
   CmdResult run;
   std::thread station([&] {
-    run = orthoface("station --front sim:4/front --side sim:4/side --yaw 35 --duration 14 --output http:" +
-                    std::to_string(port) + " --out " + (dir / "out").string());
+    run = orthoface(
+        "station --front sim:4/front --side sim:4/side --yaw 35 --duration 14 --output http:" +
+        std::to_string(port) + " --out " + (dir / "out").string());
   });
   // The first rotated frame needs a reconstruction: seconds under the sanitizers on a busy host.
   if (!wait_for(port, "/status", "fps_out", 10.0)) {
@@ -186,13 +204,14 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
   const fs::path shot = dir / "station_page.png";
   if (!chromium.empty()) {
     std::this_thread::sleep_for(2500ms);  // let the model fit so the rotated view shows a face
-    const std::string cmd = "timeout 40 " + chromium +
-                            " --headless --no-sandbox --disable-gpu --hide-scrollbars "
-                            "--disable-quic --no-first-run --disable-background-networking "
-                            "--disable-component-update --disable-sync --user-data-dir=" +
-                            (dir / "chromium-profile").string() +
-                            " --window-size=1280,560 --virtual-time-budget=2000 --screenshot=" +
-                            shot.string() + " http://127.0.0.1:" + std::to_string(port) + "/ >/dev/null 2>&1";
+    const std::string cmd =
+        "timeout 40 " + chromium +
+        " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+        "--disable-quic --no-first-run --disable-background-networking "
+        "--disable-component-update --disable-sync --user-data-dir=" +
+        (dir / "chromium-profile").string() +
+        " --window-size=1280,560 --virtual-time-budget=2000 --screenshot=" + shot.string() +
+        " http://127.0.0.1:" + std::to_string(port) + "/ >/dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
   }
   station.join();
@@ -221,21 +240,28 @@ namespace {
 // The unchanged orthoface binary against the fake V4L2 device (LD_PRELOAD).
 TEST(CaptureCommand, ProductionBinaryThroughFakeV4l2) {
   const auto dir = orthoface::testing::temp_dir("capture_fake_v4l2");
-  const std::string env = std::string("LD_PRELOAD=") + FAKE_V4L2_LIB +
-                          " ORTHOFACE_FAKE_V4L2=/dev/video42,/dev/video43 ORTHOFACE_FAKE_V4L2_CTL=" +
-                          dir.string();
+  const std::string env =
+      std::string("LD_PRELOAD=") + FAKE_V4L2_LIB +
+      " ORTHOFACE_FAKE_V4L2=/dev/video42,/dev/video43 ORTHOFACE_FAKE_V4L2_CTL=" + dir.string();
   const CmdResult devices = orthoface("devices", env);
   ASSERT_EQ(devices.code, 0) << devices.output;
-  EXPECT_NE(devices.output.find("/dev/video42  (orthoface fake camera)"), std::string::npos) << devices.output;
+  EXPECT_NE(devices.output.find("/dev/video42  (orthoface fake camera)"), std::string::npos)
+      << devices.output;
   EXPECT_NE(devices.output.find("MJPG 640x480 @ 30/15 fps"), std::string::npos);
-  const CmdResult r = orthoface("capture --front /dev/video42 --side /dev/video43 --no-reconstruct --out " +
-                                (dir / "out").string(), env);
+  const CmdResult r =
+      orthoface("capture --front /dev/video42 --side /dev/video43 --no-reconstruct --out " +
+                    (dir / "out").string(),
+                env);
   ASSERT_EQ(r.code, 0) << r.output;
   EXPECT_EQ(cv::imread((dir / "out/pair/front.png").string()).size(), cv::Size(640, 480));
-  const CmdResult lacking = orthoface("capture --front /dev/video42 --side /dev/video43 --size 800x600 "
-                                      "--no-reconstruct --out " + (dir / "out2").string(), env);
+  const CmdResult lacking = orthoface(
+      "capture --front /dev/video42 --side /dev/video43 --size 800x600 "
+      "--no-reconstruct --out " +
+          (dir / "out2").string(),
+      env);
   EXPECT_EQ(lacking.code, 1);
-  EXPECT_NE(lacking.output.find("error: camera /dev/video42: no mode of 800x600"), std::string::npos)
+  EXPECT_NE(lacking.output.find("error: camera /dev/video42: no mode of 800x600"),
+            std::string::npos)
       << lacking.output;
 }
 

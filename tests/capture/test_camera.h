@@ -14,8 +14,8 @@ namespace orthoface::testing {
 
 struct TestCameraConfig {
   double fps = 30;
-  double offset_s = 0;    // phase of this camera's frames
-  int drop_every = 0;     // > 0: every n-th sequence number is skipped (a driver drop)
+  double offset_s = 0;  // phase of this camera's frames
+  int drop_every = 0;   // > 0: every n-th sequence number is skipped (a driver drop)
   std::atomic<bool> unplugged{false};
 };
 

@@ -25,7 +25,8 @@ Landmarks68 layout() {
     p[k] = {200 + 90 * std::cos(a), 200 + 110 * std::sin(a) * (k > 0 && k < 16 ? 1 : 0.2)};
   }
   for (int k = 17; k <= 26; ++k) p[k] = {130.0 + (k - 17) * 15.5, 150.0};
-  for (int k = 27; k <= 35; ++k) p[k] = {200.0 + (k >= 31 ? (k - 33) * 8.0 : 0), 170.0 + (k - 27) * 6.0};
+  for (int k = 27; k <= 35; ++k)
+    p[k] = {200.0 + (k >= 31 ? (k - 33) * 8.0 : 0), 170.0 + (k - 27) * 6.0};
   for (int k = 36; k <= 47; ++k) {
     const double cx = k < 42 ? 160 : 240, a = 2 * M_PI * ((k - 36) % 6) / 6.0;
     p[k] = {cx + 18 * std::cos(a), 175 + 6 * std::sin(a)};
@@ -81,7 +82,8 @@ TEST_F(Judge, RefusesBadImagesAndAMissingModel) {
   EXPECT_THROW(FaceJudge("/nonexistent/predictor.dat"), std::runtime_error);
   const FaceJudge judge;
   EXPECT_THROW(judge.largest_face(cv::Mat()), std::invalid_argument);
-  EXPECT_THROW(judge.largest_face(cv::Mat(100, 100, CV_16UC3, cv::Scalar(0))), std::invalid_argument);
+  EXPECT_THROW(judge.largest_face(cv::Mat(100, 100, CV_16UC3, cv::Scalar(0))),
+               std::invalid_argument);
   EXPECT_FALSE(judge.largest_face(cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90))));
 }
 
@@ -128,8 +130,9 @@ TEST_F(Judge, ScoresSimulatedHeadsTrueViews) {
   bare.vertices = head.mesh.vertices;
   bare.triangles = head.mesh.triangles;
   const double yaw = 30 * M_PI / 180;
-  const render::SynthesisResult synthesized = render::synthesize_view(
-      bare, cap.true_rig, cap.front, cap.side, capture::camera_at(cap.nominal_rig.front, yaw, 0, 1000));
+  const render::SynthesisResult synthesized =
+      render::synthesize_view(bare, cap.true_rig, cap.front, cap.side,
+                              capture::camera_at(cap.nominal_rig.front, yaw, 0, 1000));
   const FaceJudge judge;
   const auto truth = judge.largest_face(sim::true_view(head, ro, yaw, 0, renderer).image);
   const auto view = judge.largest_face(synthesized.view.image);

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <map>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "model/adapt_detail.h"
 #include "model/evaluate.h"
@@ -27,8 +27,8 @@ TEST(Nnwa, ExactAtLandmarksAndNearestNeighbourForK1) {
   const auto mid = nnwa_displacements({{5, -1, 0}}, lm, disp, 2);
   EXPECT_NEAR((mid[0] - Eigen::Vector3d(0.5, 1.0, 0)).norm(), 0.0, 1e-12);
   // Inverse-square weights: distances 1 and 3 -> weights 1 and 1/9.
-  const auto w = nnwa_displacements({{1, 0, 0}}, {{0, 0, 0}, {4, 0, 0}},
-                                    {{10, 0, 0}, {0, 0, 0}}, 2);
+  const auto w =
+      nnwa_displacements({{1, 0, 0}}, {{0, 0, 0}, {4, 0, 0}}, {{10, 0, 0}, {0, 0, 0}}, 2);
   EXPECT_NEAR(w[0].x(), 10.0 * 1.0 / (1.0 + 1.0 / 9.0), 1e-12);
 }
 
@@ -96,9 +96,9 @@ TEST(Interpolate, ProfilePointStretchesASliceWithoutSilhouette) {
   const int mid = int(ids.size()) / 2, right = ids.front();
   for (int i = 1; i < mid; ++i) {
     const int v = ids[i];
-    const double expect_z = interpolate_between(out[right].z(), out[ids[mid]].z(),
-                                                aligned[right].z(), aligned[ids[mid]].z(),
-                                                aligned[v].z());
+    const double expect_z =
+        interpolate_between(out[right].z(), out[ids[mid]].z(), aligned[right].z(),
+                            aligned[ids[mid]].z(), aligned[v].z());
     EXPECT_NEAR(out[v].z(), expect_z, 1e-9) << i;
     EXPECT_NEAR(out[v].x(), aligned[v].x(), 1e-9) << i;  // the ends did not move in x
   }
@@ -159,7 +159,9 @@ TEST(Adapt, MissingFeaturesFallBackWithWarning) {
   EXPECT_GE(r.warnings.size(), 26u);
   EXPECT_EQ(r.folds_remaining, 0);
   // Boundary only: the nose is not observed, yet the face stays close to the truth.
-  EXPECT_NEAR((r.landmarks.at("nose_tip") - s.truth.mesh.vertices[s.truth.features.at("nose_tip")]).norm(), 0.0, 3.0);
+  EXPECT_NEAR(
+      (r.landmarks.at("nose_tip") - s.truth.mesh.vertices[s.truth.features.at("nose_tip")]).norm(),
+      0.0, 3.0);
 }
 
 TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
@@ -173,7 +175,10 @@ TEST(Adapt, FeatureFarFromTheFaceIsDroppedAsOutlier) {
   for (const auto& w : r.warnings) warned |= w.find("'mouth_left' is") != std::string::npos;
   EXPECT_TRUE(warned);
   // Dropped, the corner follows its neighbours (a few mm off) instead of the 50 mm outlier.
-  EXPECT_NEAR((r.landmarks.at("mouth_left") - s.truth.mesh.vertices[s.truth.features.at("mouth_left")]).norm(), 0.0, 6.0);
+  EXPECT_NEAR(
+      (r.landmarks.at("mouth_left") - s.truth.mesh.vertices[s.truth.features.at("mouth_left")])
+          .norm(),
+      0.0, 6.0);
   AdaptOptions bad;
   bad.max_feature_shift_mm = 0;
   EXPECT_THROW(adapt(base, d, bad), std::invalid_argument);
@@ -214,10 +219,14 @@ TEST(AlignBase, WithoutFeaturesTheNoseAndWidthPlaceTheBase) {
   // Any point of the face lands within a millimetre or two of its true place.
   const Eigen::Vector3d nose = base.mesh.vertices[base.features.at("nose_tip")];
   EXPECT_NEAR((a.scale.cwiseProduct(nose) + a.translation -
-               s.truth.mesh.vertices[base.features.at("nose_tip")]).norm(), 0.0, 1.0);
+               s.truth.mesh.vertices[base.features.at("nose_tip")])
+                  .norm(),
+              0.0, 1.0);
   const Eigen::Vector3d chin = base.mesh.vertices[base.features.at("chin_bottom")];
   EXPECT_NEAR((a.scale.cwiseProduct(chin) + a.translation -
-               s.truth.mesh.vertices[base.features.at("chin_bottom")]).norm(), 0.0, 3.0);
+               s.truth.mesh.vertices[base.features.at("chin_bottom")])
+                  .norm(),
+              0.0, 3.0);
 }
 
 TEST(AlignBase, ExcludedFeatureIsAsIfUnobserved) {
@@ -282,8 +291,8 @@ TEST(Adapt, BadKThrows) {
 
 TEST(Procrustes, RecoversKnownSimilarity) {
   const BaseMesh base = base_mesh();
-  const Eigen::Matrix3d rot = Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1, 0.1).normalized())
-                                  .toRotationMatrix();
+  const Eigen::Matrix3d rot =
+      Eigen::AngleAxisd(0.1, Eigen::Vector3d(0.2, 1, 0.1).normalized()).toRotationMatrix();
   const double scale = 1.07;
   const Eigen::Vector3d t(3, -2, 5);
   // 3D data taken straight from the transformed base vertices (targets = exact).

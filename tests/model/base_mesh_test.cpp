@@ -3,8 +3,8 @@
 #include <cmath>
 #include <set>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 
 #include "vision/landmarks.h"
 
@@ -57,7 +57,6 @@ TEST(BaseMesh, FeaturesAreNamedLandmarksAtPlausiblePlaces) {
   EXPECT_GT(v[b.features.at("lip_upper")].y(), v[b.features.at("lip_lower")].y());
   EXPECT_LT(v[b.features.at("chin_bottom")].y(), v[b.features.at("chin")].y());
 }
-
 
 // A feature vertex stands where its generic landmark is: an adaptation of the generic head to
 // its own landmarks must not move anything. Off the landmark only where no slice is at its

@@ -7,9 +7,7 @@
 namespace orthoface::model {
 namespace {
 
-FaceRegion whole_base_region() {
-  return {100.0, -100.0, -1000.0};
-}
+FaceRegion whole_base_region() { return {100.0, -100.0, -1000.0}; }
 
 TEST(ReconstructionError, SelfIsZeroAndOffsetIsOffsetOverDiagonal) {
   const BaseMesh b = base_mesh();

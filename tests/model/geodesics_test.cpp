@@ -148,7 +148,7 @@ TEST(DistanceMatrices, RowsMatchSingleSourceAndAreSymmetric) {
     EXPECT_NEAR(row7[j], from_j, 0.02 * row7[j] + 1e-3);
     EXPECT_EQ(g.at(7, j), g.at(j, 7));
     EXPECT_NEAR(eg.at(7, j), eg.at(j, 7), 1e-6 * eg.at(7, j));  // float sums in either order
-    EXPECT_LE(e.at(7, j), g.at(7, j) + 1e-4);  // chord <= arc
+    EXPECT_LE(e.at(7, j), g.at(7, j) + 1e-4);                   // chord <= arc
     EXPECT_GE(eg.at(7, j), g.at(7, j) - 1e-3);
   }
   EXPECT_THROW(geodesic_matrix(m, GeodesicMethod::kEdgeGraph, 100), std::invalid_argument);

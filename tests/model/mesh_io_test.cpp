@@ -45,7 +45,8 @@ std::string error_of(const std::string& path, const MeshReadOptions& o = {}) {
 void expect_same_geometry(const TriMesh& a, const TriMesh& b, double tol) {
   ASSERT_EQ(a.vertices.size(), b.vertices.size());
   ASSERT_EQ(a.triangles.size(), b.triangles.size());
-  for (size_t i = 0; i < a.vertices.size(); ++i) EXPECT_LT((a.vertices[i] - b.vertices[i]).norm(), tol);
+  for (size_t i = 0; i < a.vertices.size(); ++i)
+    EXPECT_LT((a.vertices[i] - b.vertices[i]).norm(), tol);
   for (size_t t = 0; t < a.triangles.size(); ++t) EXPECT_EQ(a.triangles[t], b.triangles[t]);
 }
 
@@ -55,7 +56,8 @@ TEST(MeshIo, ObjRoundTripKeepsUvsColoursAndTexture) {
   write_mesh(m, (dir / "tet.obj").string());
   EXPECT_TRUE(fs::exists(dir / "tet.mtl"));
   EXPECT_TRUE(fs::exists(dir / "tet.png"));
-  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos);
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_EQ(e.path().string().find(".tmp"), std::string::npos);
   const TriMesh r = read_mesh((dir / "tet.obj").string());
   expect_same_geometry(m, r, 1e-6);
   ASSERT_EQ(r.uvs.size(), 4u);
@@ -136,11 +138,18 @@ std::string make_glb(int index_type) {
       R"("textures":[{"source":0}],"images":[{"bufferView":3,"mimeType":"image/png"}],)"
       R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"},)"
       R"({"bufferView":1,"componentType":5126,"count":3,"type":"VEC2"},)"
-      R"({"bufferView":2,"componentType":)" + std::to_string(index_type) + R"(,"count":3,"type":"SCALAR"}],)"
+      R"({"bufferView":2,"componentType":)" +
+      std::to_string(index_type) +
+      R"(,"count":3,"type":"SCALAR"}],)"
       R"("bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":36},{"buffer":0,"byteOffset":36,"byteLength":24},)"
-      R"({"buffer":0,"byteOffset":)" + std::to_string(idx_off) + R"(,"byteLength":)" + std::to_string(3 * isz) + "},"
-      R"({"buffer":0,"byteOffset":)" + std::to_string(img_off) + R"(,"byteLength":)" + std::to_string(png.size()) + "}],"
-      R"("buffers":[{"byteLength":)" + std::to_string(bin.size()) + "}]}";
+      R"({"buffer":0,"byteOffset":)" +
+      std::to_string(idx_off) + R"(,"byteLength":)" + std::to_string(3 * isz) +
+      "},"
+      R"({"buffer":0,"byteOffset":)" +
+      std::to_string(img_off) + R"(,"byteLength":)" + std::to_string(png.size()) +
+      "}],"
+      R"("buffers":[{"byteLength":)" +
+      std::to_string(bin.size()) + "}]}";
   std::string js = json;
   while (js.size() % 4) js.push_back(' ');
   std::string out = "glTF";
@@ -176,7 +185,8 @@ TEST(MeshIo, GlbWithEveryIndexWidthAndEmbeddedImage) {
   const std::string full = make_glb(5123);
   write_text(dir / "cut.glb", full.substr(0, full.size() - 40));
   EXPECT_NE(error_of((dir / "cut.glb").string()).find("cut.glb"), std::string::npos);
-  write_text(dir / "ext.gltf", R"({"asset":{"version":"2.0"},"buffers":[{"uri":"missing.bin","byteLength":4}]})");
+  write_text(dir / "ext.gltf",
+             R"({"asset":{"version":"2.0"},"buffers":[{"uri":"missing.bin","byteLength":4}]})");
   EXPECT_NE(error_of((dir / "ext.gltf").string()).find("missing.bin"), std::string::npos);
   write_text(dir / "bad.gltf", "{ not json");
   EXPECT_NE(error_of((dir / "bad.gltf").string()).find("invalid glTF JSON"), std::string::npos);
@@ -188,10 +198,11 @@ TEST(MeshIo, GltfWithExternalBinFile) {
   const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
   bin.append(reinterpret_cast<const char*>(pos), sizeof(pos));
   write_text(dir / "tri.bin", bin);
-  write_text(dir / "tri.gltf",
-             R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
-             R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}],)"
-             R"("bufferViews":[{"buffer":0,"byteLength":36}],"buffers":[{"uri":"tri.bin","byteLength":36}]})");
+  write_text(
+      dir / "tri.gltf",
+      R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
+      R"("accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}],)"
+      R"("bufferViews":[{"buffer":0,"byteLength":36}],"buffers":[{"uri":"tri.bin","byteLength":36}]})");
   const TriMesh r = read_mesh((dir / "tri.gltf").string());
   EXPECT_EQ(r.triangles.size(), 1u);
   EXPECT_TRUE(r.uvs.empty());
@@ -223,7 +234,8 @@ TEST(MeshIo, MissingFilesAndUnknownFormats) {
   EXPECT_NE(error_of((dir / "none.obj").string()).find("does not exist"), std::string::npos);
   write_text(dir / "x.stl", "solid x\n");
   EXPECT_NE(error_of((dir / "x.stl").string()).find("unknown mesh format"), std::string::npos);
-  write_text(dir / "t.obj", "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
+  write_text(dir / "t.obj",
+             "mtllib nowhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/1 3/1\n");
   EXPECT_NE(error_of((dir / "t.obj").string()).find("nowhere.mtl"), std::string::npos);
   MeshReadOptions no_tex;
   no_tex.load_texture = false;

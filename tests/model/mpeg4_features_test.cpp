@@ -37,9 +37,11 @@ TEST(Mpeg4Features, SimHeadKeyVerticesAndMidlinePoints) {
   EXPECT_GT(r.axes.col(0).dot(Eigen::Vector3d::UnitX()), 0.95);  // left = subject's left
   EXPECT_GT(r.axes.col(1).dot(Eigen::Vector3d::UnitY()), 0.95);
   EXPECT_LT(std::abs(r.symmetry_plane.head<3>().dot(Eigen::Vector3d::UnitZ())), 0.1);
-  const std::map<std::string, std::string> truth = {
-      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"4.3", "brow_left_center"},
-      {"9.15", "subnasale"}};
+  const std::map<std::string, std::string> truth = {{"8.1", "lip_upper"},
+                                                    {"8.2", "lip_lower"},
+                                                    {"2.10", "chin"},
+                                                    {"4.3", "brow_left_center"},
+                                                    {"9.15", "subnasale"}};
   for (const auto& [fp, lm] : truth) {
     const FoundPoint* p = find(r, fp);
     ASSERT_NE(p, nullptr) << fp;
@@ -98,8 +100,8 @@ TEST(Mpeg4Features, LeePerrySmithScanMatchesPickedLandmarks) {
   EXPECT_GT(h.mesh.vertices[*r.ear_left].x(), 50.0);  // subject's left is +x in the head frame
   EXPECT_LT((h.mesh.vertices[*r.ear_left] - h.landmarks.at("ear_left_tragus")).norm(), 40.0);
   const std::map<std::string, std::string> truth = {
-      {"8.1", "lip_upper"}, {"8.2", "lip_lower"}, {"2.10", "chin"}, {"nasion", "nose_bridge"},
-      {"9.15", "subnasale"}, {"4.3", "brow_left_center"}};
+      {"8.1", "lip_upper"},      {"8.2", "lip_lower"},  {"2.10", "chin"},
+      {"nasion", "nose_bridge"}, {"9.15", "subnasale"}, {"4.3", "brow_left_center"}};
   for (const auto& [fp, lm] : truth) {
     const FoundPoint* p = find(r, fp);
     ASSERT_NE(p, nullptr) << fp;
@@ -157,7 +159,8 @@ TEST(GeodesicEuclideanRatio, FoldIsHighPlaneIsOne) {
     fold.vertices.push_back({v.x(), v.y(), 0.0});
   }
   // Second sheet: mirror of the first in x about x = 0 then lifted: an accordion fold.
-  for (int i = 0; i < n; ++i) fold.vertices[n + i] = {-fold.vertices[i].x(), fold.vertices[i].y(), 0.6};
+  for (int i = 0; i < n; ++i)
+    fold.vertices[n + i] = {-fold.vertices[i].x(), fold.vertices[i].y(), 0.6};
   for (int i = 0; i < n; ++i)
     if (fold.vertices[i].x() == 0.0) fold.vertices[n + i] = fold.vertices[i];
   const size_t t0 = fold.triangles.size();

@@ -51,12 +51,15 @@ TEST(SegmentByFeaturePoints, SphereSplitsIntoHalvesAndSixths) {
   const std::vector<FeaturePoint> two = {{"9.3", {0, 0, 20}}, {"11.6", {0, 0, -20}}};
   const Segmentation s = segment_by_feature_points(m, two);
   for (size_t v = 0; v < m.vertices.size(); ++v)
-    if (std::abs(m.vertices[v].z()) > 1e-6) { EXPECT_EQ(s.label[v], m.vertices[v].z() > 0 ? 0 : 1); }
+    if (std::abs(m.vertices[v].z()) > 1e-6) {
+      EXPECT_EQ(s.label[v], m.vertices[v].z() > 0 ? 0 : 1);
+    }
   EXPECT_NEAR(s.percent[0] + s.percent[1], 100.0, 1e-9);
   EXPECT_EQ(s.count[0] + s.count[1], 642);
   std::vector<FeaturePoint> six;
   const char* names[] = {"9.3", "11.6", "10.1", "10.2", "11.4", "2.1"};
-  const Eigen::Vector3d dirs[] = {{0, 0, 1}, {0, 0, -1}, {1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  const Eigen::Vector3d dirs[] = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0},
+                                  {-1, 0, 0}, {0, 1, 0},  {0, -1, 0}};
   for (int i = 0; i < 6; ++i) six.push_back({names[i], dirs[i] * 3.0});
   const Segmentation s6 = segment_by_feature_points(m, six);
   for (int c : s6.count) EXPECT_NEAR(c, 107, 12);  // 642 / 6, symmetric up to ties
@@ -73,7 +76,9 @@ TEST(SegmentByFeaturePoints, SmoothWeightsSumToOneAndPeakAtThePoint) {
   int top = 0;
   for (size_t v = 0; v < m.vertices.size(); ++v) {
     const double sum = s.weights[0][v] + s.weights[1][v];
-    if (sum > 0) { EXPECT_NEAR(sum, 1.0, 1e-9); }
+    if (sum > 0) {
+      EXPECT_NEAR(sum, 1.0, 1e-9);
+    }
     if (m.vertices[v].z() > m.vertices[top].z()) top = int(v);
   }
   EXPECT_GT(s.weights[0][top], 0.96);  // 1 / (1 + exp(-(25 pi)^2 / (2 30^2))) = 0.968
@@ -98,11 +103,12 @@ TEST(ReadFeaturePoints, FormatsAndUnknownNames) {
     std::ofstream(dir / name) << text;
     return (dir / name).string();
   };
-  const auto list = read_feature_points(write(
-      "a.json", R"({"feature_points": [{"name": "9.3", "position": [1, 2, 3]}]})"));
+  const auto list = read_feature_points(
+      write("a.json", R"({"feature_points": [{"name": "9.3", "position": [1, 2, 3]}]})"));
   ASSERT_EQ(list.size(), 1u);
   EXPECT_EQ(list[0].position, Eigen::Vector3d(1, 2, 3));
-  const auto map = read_feature_points(write("b.json", R"({"nose_tip": [0, 0, 1], "10.1": [1, 0, 0]})"));
+  const auto map =
+      read_feature_points(write("b.json", R"({"nose_tip": [0, 0, 1], "10.1": [1, 0, 0]})"));
   EXPECT_EQ(map.size(), 2u);
   const std::string bad = write("c.json", R"({"9.3": [0, 0, 1], "nose_tipp": [1, 0, 0]})");
   try {

@@ -72,8 +72,8 @@ TEST(StereoMatch, SyntheticFaceGivesTrue3d) {
 
 TEST(StereoMatch, DisagreeingViewsAreReportedOrDropped) {
   auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
-  s.observation.side.features["nose_tip"].px.y += 14;   // 14 px row mismatch: warned
-  s.observation.side.features["chin"].px.y += 100;      // 100 px: dropped
+  s.observation.side.features["nose_tip"].px.y += 14;  // 14 px row mismatch: warned
+  s.observation.side.features["chin"].px.y += 100;     // 100 px: dropped
   const StereoData d = stereo_match(s.observation, s.rig);
   ASSERT_TRUE(d.features.count("nose_tip"));
   EXPECT_NEAR(d.features.at("nose_tip").mismatch_px, 7.0, 1e-6);  // y split between views

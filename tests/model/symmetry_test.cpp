@@ -12,9 +12,9 @@ namespace {
 
 // Feature pairs mirrored about the plane x = 16 (a face 16 mm right of the head frame's origin).
 std::map<std::string, Eigen::Vector3d> offset_face() {
-  return {{"eye_left_outer", {16 + 45, 0, 25}},  {"eye_right_outer", {16 - 45, 0, 25}},
-          {"mouth_left", {16 + 25, -85, 45}},    {"mouth_right", {16 - 25, -85, 45}},
-          {"nose_tip", {16, -48, 75}},           {"chin", {16, -125, 50}},
+  return {{"eye_left_outer", {16 + 45, 0, 25}}, {"eye_right_outer", {16 - 45, 0, 25}},
+          {"mouth_left", {16 + 25, -85, 45}},   {"mouth_right", {16 - 25, -85, 45}},
+          {"nose_tip", {16, -48, 75}},          {"chin", {16, -125, 50}},
           {"not_a_feature", {500, 0, 0}}};
 }
 

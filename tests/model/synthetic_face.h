@@ -10,8 +10,8 @@
 namespace orthoface::testing {
 
 struct SyntheticFace {
-  model::BaseMesh truth;                  // base mesh moved by p -> scale .* p + offset
-  vision::FaceObservation observation;    // ideal-rig observation of `truth`
+  model::BaseMesh truth;                // base mesh moved by p -> scale .* p + offset
+  vision::FaceObservation observation;  // ideal-rig observation of `truth`
   capture::RigCalibration rig;
 };
 
@@ -20,7 +20,8 @@ inline SyntheticFace synthetic_face(const Eigen::Vector3d& scale, const Eigen::V
   SyntheticFace s;
   s.truth = model::base_mesh();
   for (auto& v : s.truth.mesh.vertices) {
-    const double bump = nose_extra_mm * std::exp(-(v.x() * v.x() + (v.y() + 10) * (v.y() + 10)) / 200.0);
+    const double bump =
+        nose_extra_mm * std::exp(-(v.x() * v.x() + (v.y() + 10) * (v.y() + 10)) / 200.0);
     v = scale.cwiseProduct(v) + offset + Eigen::Vector3d(0, 0, bump);
   }
   s.rig = capture::ideal_rig(640, 480, 1.6);

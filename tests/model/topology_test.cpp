@@ -124,9 +124,7 @@ TEST(Weld, MergesWithinToleranceOnly) {
   for (size_t i = 0; i < rep.size(); ++i) EXPECT_LE(rep[i], static_cast<int>(i));
 }
 
-TEST(Weld, EmptyVertexListGivesEmptyMap) {
-  EXPECT_TRUE(weld_map(TriMesh{}).empty());
-}
+TEST(Weld, EmptyVertexListGivesEmptyMap) { EXPECT_TRUE(weld_map(TriMesh{}).empty()); }
 
 TEST(Weld, DropsCollapsedTrianglesAndKeepsAttributes) {
   TriMesh m = tetrahedron();

@@ -97,8 +97,8 @@ TEST(NewView, ViewBlendTakesEachPhotoAtItsOwnCamera) {
       const cv::Mat alone = (share == 255) & r.view.mask;
       const int own = cv::countNonZero(alone);
       const double photo_psnr = psnr(source == 0 ? s.front : s.side, r.view.image, alone);
-      std::printf("%s at source %d: %d of %d pixels from it alone, PSNR %.1f dB\n",
-                  blend_name(b), source, own, drawn, photo_psnr);
+      std::printf("%s at source %d: %d of %d pixels from it alone, PSNR %.1f dB\n", blend_name(b),
+                  source, own, drawn, photo_psnr);
       if (b == Blend::View) {
         EXPECT_GT(own, drawn * 0.98);  // all but the silhouette's grazing rim
         EXPECT_GT(photo_psnr, 45.0);   // the same pixels through the same camera
@@ -110,7 +110,8 @@ TEST(NewView, ViewBlendTakesEachPhotoAtItsOwnCamera) {
 }
 
 TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
-  for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted}) EXPECT_EQ(parse_blend(blend_name(b)), b);
+  for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted})
+    EXPECT_EQ(parse_blend(blend_name(b)), b);
   EXPECT_THROW(parse_blend("nearest"), std::invalid_argument);
   EXPECT_THROW(parse_blend(""), std::invalid_argument);
   SynthesisOptions o;
@@ -130,7 +131,8 @@ TEST(NewView, FortyFiveDegreesMatchesTheTrueView) {
     o.blend = b;
     const RenderResult r = synth.render(cam, o).view;
     EXPECT_EQ(cv::countNonZero(r.mask != truth.mask), 0);
-    const double p = psnr(truth.image, r.image, truth.mask), q = ssim(truth.image, r.image, truth.mask);
+    const double p = psnr(truth.image, r.image, truth.mask),
+                 q = ssim(truth.image, r.image, truth.mask);
     std::printf("ellipsoid 45 deg %s: PSNR %.2f dB SSIM %.4f\n", blend_name(b), p, q);
     EXPECT_GT(p, 36.0);
     EXPECT_GT(q, 0.98);
@@ -158,7 +160,8 @@ TEST(NewView, OccludedPointsNeverTakeColourFromTheHiddenPhoto) {
   big.colors.assign(big.vertices.size(), {0, 1, 0});
   const int offset = int(big.vertices.size());
   for (const auto& v : ball.vertices) big.vertices.push_back(v), big.colors.push_back({1, 0, 0});
-  for (const auto& t : ball.triangles) big.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
+  for (const auto& t : ball.triangles)
+    big.triangles.push_back({t[0] + offset, t[1] + offset, t[2] + offset});
   const Scene s = make_scene(big, capture::ideal_rig(640, 480, 2.0));
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   const CameraModel cam = view(s.rig.front, 60);
@@ -203,9 +206,10 @@ TEST(NewView, WeightedBlendFollowsTheCosineWeights) {
   for (int row = 0; row < cam.height; row += 3)
     for (int col = 0; col < cam.width; col += 3) {
       if (!r.view.mask.at<uchar>(row, col)) continue;
-      const Eigen::Vector3d n = unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
+      const Eigen::Vector3d n =
+          unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
       const double c0 = n.z(), c1 = n.x();  // facing the front (+z) and side (+x) cameras
-      if (c0 < 0.3 || c1 < 0.3) continue;  // faceting moves small cosines a lot
+      if (c0 < 0.3 || c1 < 0.3) continue;   // faceting moves small cosines a lot
       const double want = c0 * c0 / (c0 * c0 + c1 * c1);
       EXPECT_NEAR(r.weights.at<cv::Vec3b>(row, col)[0], 255 * want, 6) << col << "," << row;
       ++checked;
@@ -228,7 +232,8 @@ TEST(NewView, PickSwitchesAtFortyFiveDegreesWithAFeatheredSeam) {
     for (int row = 0; row < cam.height; row += 2)
       for (int col = 0; col < cam.width; col += 2) {
         if (!r.view.mask.at<uchar>(row, col)) continue;
-        const Eigen::Vector3d n = unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
+        const Eigen::Vector3d n =
+            unproject(cam, col, row, r.view.depth_mm.at<float>(row, col)).normalized();
         if (n.z() < 0.15 || n.x() < 0.15) continue;
         const double d = n.z() - n.x();  // cos(front) - cos(side)
         const int w = r.weights.at<cv::Vec3b>(row, col)[0];
@@ -242,8 +247,10 @@ TEST(NewView, PickSwitchesAtFortyFiveDegreesWithAFeatheredSeam) {
         ++checked;
       }
     EXPECT_GT(checked, 1000);
-    if (feather == 0) EXPECT_LT(blended, 40);  // only the pixels straddling the switch
-    else EXPECT_GT(blended, 200);
+    if (feather == 0)
+      EXPECT_LT(blended, 40);  // only the pixels straddling the switch
+    else
+      EXPECT_GT(blended, 200);
   }
 }
 
@@ -320,7 +327,8 @@ TEST(NewView, LivePhotosKeepTheColourMatchAndUpdateTheTextures) {
   cv::extractChannel(fresh_raw.weights, seen, 2);
   seen = (seen == 0) & fresh_raw.view.mask;
   ASSERT_GT(cv::countNonZero(seen), 50000);
-  EXPECT_EQ(cv::norm(fresh_raw.view.image, synth.render(cam, raw).view.image, cv::NORM_INF, seen), 0.0);
+  EXPECT_EQ(cv::norm(fresh_raw.view.image, synth.render(cam, raw).view.image, cv::NORM_INF, seen),
+            0.0);
   // Twice more with new photos: back to the first pair gives the first view exactly.
   synth.set_photos(s.front * 0.5, s.side * 0.5);
   synth.set_photos(s.front, s.side);
@@ -415,7 +423,8 @@ TEST(NewView, MeshBehindThePerspectiveViewGivesAnEmptyImage) {
   k.projection = capture::Projection::Perspective;
   k.fx = k.fy = 500;
   CameraModel cam = view(k, 0, 0, 600);
-  cam.cam_from_head = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()) * cam.cam_from_head;  // look away
+  cam.cam_from_head =
+      Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitY()) * cam.cam_from_head;  // look away
   SynthesisOptions o;
   o.background = cv::Scalar(1, 2, 3);
   const SynthesisResult r = synth.render(cam, o);
@@ -540,7 +549,8 @@ TEST(NewView, SimHeadFortyFiveDegreesWithTheTrueMesh) {
   const CameraModel cam = view(s.rig.front, 45);
   const RenderResult truth = render_once(head.mesh, cam);
   const RenderResult r = synth.render(cam).view;
-  const double p = psnr(truth.image, r.image, truth.mask), q = ssim(truth.image, r.image, truth.mask);
+  const double p = psnr(truth.image, r.image, truth.mask),
+               q = ssim(truth.image, r.image, truth.mask);
   std::printf("sim head seed 1, 45 deg, true mesh: PSNR %.2f dB SSIM %.4f\n", p, q);
   EXPECT_GT(p, 38.0);
   EXPECT_GT(q, 0.96);

@@ -66,7 +66,8 @@ void expect_sphere_depth(const CameraModel& cam) {
       worst = std::max(worst, std::abs(r.depth_mm.at<float>(row, col) - z));
       ++checked;
     }
-  std::printf("sphere depth: %d px checked, worst %.4f mm, %d rim mask mismatches\n", checked, worst, mask_mismatch);
+  std::printf("sphere depth: %d px checked, worst %.4f mm, %d rim mask mismatches\n", checked,
+              worst, mask_mismatch);
   EXPECT_GT(checked, 10000);
   EXPECT_LT(worst, 0.1) << "max |depth - analytic| in mm";
   EXPECT_LT(mask_mismatch, 60) << "mask differs from the analytic disc beyond the rim";
@@ -164,9 +165,9 @@ TEST(Renderer, TextureRowZeroIsTheTopAndVZeroTheBottom) {
   m.vertices = {{-40, -40, 0}, {40, -40, 0}, {40, 40, 0}, {-40, 40, 0}};
   m.triangles = {{0, 1, 2}, {0, 2, 3}};
   m.uvs = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
-  m.texture = cv::Mat(64, 64, CV_8UC3, cv::Scalar(255, 0, 0));           // blue
-  m.texture(cv::Rect(0, 0, 64, 32)).setTo(cv::Scalar(0, 0, 255));       // top half red
-  m.texture(cv::Rect(0, 32, 32, 32)).setTo(cv::Scalar(0, 255, 0));      // bottom-left green
+  m.texture = cv::Mat(64, 64, CV_8UC3, cv::Scalar(255, 0, 0));      // blue
+  m.texture(cv::Rect(0, 0, 64, 32)).setTo(cv::Scalar(0, 0, 255));   // top half red
+  m.texture(cv::Rect(0, 32, 32, 32)).setTo(cv::Scalar(0, 255, 0));  // bottom-left green
   const RenderResult r = render_once(m, cam);
   EXPECT_EQ(r.image.at<cv::Vec3b>(20, 70), cv::Vec3b(0, 0, 255));  // top right: red
   EXPECT_EQ(r.image.at<cv::Vec3b>(80, 70), cv::Vec3b(255, 0, 0));  // bottom right: blue
@@ -175,8 +176,8 @@ TEST(Renderer, TextureRowZeroIsTheTopAndVZeroTheBottom) {
 
 TEST(Renderer, PerVertexColoursInterpolate) {
   const CameraModel cam = capture::ideal_rig(120, 120, 1.0).front;
-  TriMesh m = image_triangle(cam, {Eigen::Vector2d(10, 110), Eigen::Vector2d(110, 110),
-                                   Eigen::Vector2d(60, 10)});
+  TriMesh m = image_triangle(
+      cam, {Eigen::Vector2d(10, 110), Eigen::Vector2d(110, 110), Eigen::Vector2d(60, 10)});
   m.colors = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   RenderOptions o;
   o.cull_back_faces = false;
@@ -190,8 +191,8 @@ TEST(Renderer, PerVertexColoursInterpolate) {
 
 TEST(Renderer, BackFacesAreCulledUnlessAsked) {
   const CameraModel cam = capture::ideal_rig(100, 100, 1.0).front;
-  TriMesh front = image_triangle(cam, {Eigen::Vector2d(10, 90), Eigen::Vector2d(90, 90),
-                                       Eigen::Vector2d(50, 10)});
+  TriMesh front = image_triangle(
+      cam, {Eigen::Vector2d(10, 90), Eigen::Vector2d(90, 90), Eigen::Vector2d(50, 10)});
   // Image-clockwise (y down) = counter-clockwise seen from the camera: faces the camera.
   TriMesh back = front;
   std::swap(back.triangles[0][1], back.triangles[0][2]);

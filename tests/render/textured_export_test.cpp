@@ -51,13 +51,20 @@ TEST(TexturedExport, TrianglesInheritFromThePhotoTheyFace) {
   int counts[3] = {0, 0, 0};
   for (size_t t = 0; t < p.bare.triangles.size(); ++t) {
     const auto& tri = p.bare.triangles[t];
-    const Eigen::Vector3d c = (p.bare.vertices[tri[0]] + p.bare.vertices[tri[1]] + p.bare.vertices[tri[2]]) / 3;
+    const Eigen::Vector3d c =
+        (p.bare.vertices[tri[0]] + p.bare.vertices[tri[1]] + p.bare.vertices[tri[2]]) / 3;
     const Eigen::Vector3d dir(c.x() / 70, c.y() / 100, c.z() / 85);  // ~ outward
     const int s = m.source[t];
     ++counts[s + 1];
-    if (dir.z() > 0.3 && dir.z() > dir.x() + 0.2) { EXPECT_EQ(s, 0) << t; }
-    if (dir.x() > 0.3 && dir.x() > dir.z() + 0.2) { EXPECT_EQ(s, 1) << t; }
-    if (dir.x() < -0.2 && dir.z() < -0.2) { EXPECT_EQ(s, -1) << t; }
+    if (dir.z() > 0.3 && dir.z() > dir.x() + 0.2) {
+      EXPECT_EQ(s, 0) << t;
+    }
+    if (dir.x() > 0.3 && dir.x() > dir.z() + 0.2) {
+      EXPECT_EQ(s, 1) << t;
+    }
+    if (dir.x() < -0.2 && dir.z() < -0.2) {
+      EXPECT_EQ(s, -1) << t;
+    }
   }
   EXPECT_GT(counts[0], 500);  // fill
   EXPECT_GT(counts[1], 500);  // front
@@ -117,7 +124,8 @@ TEST(TexturedExport, ObjGlbAndPlyLoadBack) {
     if (q.z() / 85 < 0.8) continue;  // clearly facing the front camera: the front photo's colour
     const Eigen::Vector2d px = capture::project(p.rig.front, q);
     cv::Mat sample;  // bilinear; getRectSubPix puts pixel centres at integers
-    cv::getRectSubPix(p.front, cv::Size(1, 1), cv::Point2f(float(px.x() - 0.5), float(px.y() - 0.5)), sample);
+    cv::getRectSubPix(p.front, cv::Size(1, 1),
+                      cv::Point2f(float(px.x() - 0.5), float(px.y() - 0.5)), sample);
     for (int k = 0; k < 3; ++k)
       EXPECT_NEAR(ply.colors[v][2 - k] * 255, sample.at<cv::Vec3b>(0, 0)[k], 1.5) << v;
     ++checked;
@@ -133,14 +141,17 @@ TEST(TexturedExport, AssimpReadsTheObjAndGlb) {
   model::write_mesh(m, (dir / "head.obj").string());
   write_glb(m, (dir / "head.glb").string());
   for (const char* f : {"head.obj", "head.glb"}) {
-    const std::string cmd = "assimp info " + (dir / f).string() + " > " + (dir / "info.txt").string() + " 2>&1";
+    const std::string cmd =
+        "assimp info " + (dir / f).string() + " > " + (dir / "info.txt").string() + " 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0) << f;
     std::ifstream in(dir / "info.txt");
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    EXPECT_NE(text.find(std::to_string(m.triangles.size())), std::string::npos) << f << ":\n" << text;
+    EXPECT_NE(text.find(std::to_string(m.triangles.size())), std::string::npos) << f << ":\n"
+                                                                                << text;
   }
   if (std::system("gltf_validator --version > /dev/null 2>&1") == 0) {
-    const std::string cmd = "gltf_validator -o " + (dir / "head.glb").string() + " > /dev/null 2>&1";
+    const std::string cmd =
+        "gltf_validator -o " + (dir / "head.glb").string() + " > /dev/null 2>&1";
     EXPECT_EQ(std::system(cmd.c_str()), 0);
   }
 }
@@ -156,11 +167,13 @@ TEST(TexturedExport, DegenerateAndBadInputs) {
   EXPECT_EQ(b.mesh.uvs[0], b.mesh.uvs[1]);
 
   EXPECT_THROW(inherit_texture(model::TriMesh{}, p.rig, p.front, p.side), std::invalid_argument);
-  EXPECT_THROW(inherit_texture(p.bare, p.rig, p.front, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(inherit_texture(p.bare, p.rig, p.front, cv::Mat(10, 10, CV_8UC3)),
+               std::invalid_argument);
   InheritOptions o;
   o.padding_px = -1;
   EXPECT_THROW(inherit_texture(p.bare, p.rig, p.front, p.side, o), std::invalid_argument);
-  EXPECT_THROW(write_glb(p.bare, (testing::temp_dir("glb_bad") / "x.glb").string()), std::invalid_argument);
+  EXPECT_THROW(write_glb(p.bare, (testing::temp_dir("glb_bad") / "x.glb").string()),
+               std::invalid_argument);
   const model::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
   EXPECT_THROW(write_glb(m, "/nonexistent_dir_orthoface/x.glb"), std::runtime_error);
 }

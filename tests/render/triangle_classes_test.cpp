@@ -166,12 +166,12 @@ TEST(OrderTriangles, GroupsClassesInOrder) {
   unoccluded.whole = {true, true}, unoccluded.unoccluded = true, unoccluded.lead = {0, 0};
   tested.whole = {false, false}, tested.unoccluded = false, tested.lead = {0, 0};
   const Triangles triangles = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {4, 4, 4}, {5, 5, 5}};
-  const std::vector<TriangleFacts> facts = {tested,   side_only, front_only,
+  const std::vector<TriangleFacts> facts = {tested,     side_only,  front_only,
                                             unoccluded, front_only, tested};
   const TriangleOrder order = order_triangles(triangles, facts, {false, 0.1, 0});
   EXPECT_EQ(order.count, (std::array<int, 4>{2, 1, 1, 2}));
-  EXPECT_EQ(order.triangles, (Triangles{{2, 2, 2}, {4, 4, 4}, {1, 1, 1}, {3, 3, 3}, {0, 0, 0},
-                                        {5, 5, 5}}));
+  EXPECT_EQ(order.triangles,
+            (Triangles{{2, 2, 2}, {4, 4, 4}, {1, 1, 1}, {3, 3, 3}, {0, 0, 0}, {5, 5, 5}}));
   const TriangleOrder none = order_triangles({}, {}, {});
   EXPECT_TRUE(none.triangles.empty());
   EXPECT_EQ(none.count, (std::array<int, 4>{0, 0, 0, 0}));

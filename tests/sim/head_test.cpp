@@ -6,16 +6,16 @@
 #include <numeric>
 #include <stdexcept>
 
-#include <Eigen/Geometry>
 #include <gtest/gtest.h>
+#include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
 #include "model/topology.h"
 #include "render/renderer.h"
-#include "vision/landmarks.h"
 #include "tests/common/test_data.h"
 #include "tests/sim/mesh_distance.h"
+#include "vision/landmarks.h"
 
 namespace orthoface::sim {
 namespace {
@@ -130,8 +130,9 @@ TEST(MakeHead, ProfileLandmarksAreOrderedAndNoseTipIsMostForward) {
     const Head h = make_head(head_params(seed), fast_options());
     const auto& l = h.landmarks;
     const char* order[] = {"forehead_top", "nose_bridge", "nose_tip", "subnasale",
-                           "lip_upper", "lip_lower", "chin", "chin_bottom"};
-    for (int k = 0; k + 1 < 8; ++k) EXPECT_GT(l.at(order[k]).y(), l.at(order[k + 1]).y()) << order[k];
+                           "lip_upper",    "lip_lower",   "chin",     "chin_bottom"};
+    for (int k = 0; k + 1 < 8; ++k)
+      EXPECT_GT(l.at(order[k]).y(), l.at(order[k + 1]).y()) << order[k];
     double zmax = -1e9;
     for (const auto& v : h.mesh.vertices) zmax = std::max(zmax, v.z());
     EXPECT_NEAR(l.at("nose_tip").z(), zmax, 1e-9) << "seed " << seed;
@@ -154,7 +155,8 @@ TEST(MakeHead, AsymmetryBreaksTheMirror) {
 
 TEST(MakeHead, TenSeedsGiveVisiblyDifferentHeads) {
   std::vector<Head> heads;
-  for (int seed = 1; seed <= 10; ++seed) heads.push_back(make_head(head_params(seed), fast_options()));
+  for (int seed = 1; seed <= 10; ++seed)
+    heads.push_back(make_head(head_params(seed), fast_options()));
   // Per-vertex RMS distance between two heads after centring (same grid => same vertex count).
   double min_rms = 1e9, sum_rms = 0;
   int pairs = 0;
@@ -181,15 +183,18 @@ TEST(MakeHead, TenSeedsGiveVisiblyDifferentHeads) {
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
     for (const auto& h : heads) mean += h.landmarks.at(std::string(name)) / heads.size();
     double var = 0;
-    for (const auto& h : heads) var += (h.landmarks.at(std::string(name)) - mean).squaredNorm() / heads.size();
+    for (const auto& h : heads)
+      var += (h.landmarks.at(std::string(name)) - mean).squaredNorm() / heads.size();
     spread += var / vision::kLandmarkNames.size();
   }
   spread = std::sqrt(spread);
   RecordProperty("min_pair_rms_mm", std::to_string(min_rms));
   RecordProperty("mean_pair_rms_mm", std::to_string(sum_rms / pairs));
   RecordProperty("landmark_spread_mm", std::to_string(spread));
-  std::printf("shape spread over seeds 1..10: min pair RMS %.2f mm, mean pair RMS %.2f mm, "
-              "landmark spread %.2f mm\n", min_rms, sum_rms / pairs, spread);
+  std::printf(
+      "shape spread over seeds 1..10: min pair RMS %.2f mm, mean pair RMS %.2f mm, "
+      "landmark spread %.2f mm\n",
+      min_rms, sum_rms / pairs, spread);
   EXPECT_GT(min_rms, 2.0);
   EXPECT_GT(sum_rms / pairs, 5.0);
   EXPECT_GT(spread, 3.0);
@@ -198,7 +203,8 @@ TEST(MakeHead, TenSeedsGiveVisiblyDifferentHeads) {
 TEST(MakeHead, IsDeterministic) {
   const Head a = make_head(4), b = make_head(4);
   ASSERT_EQ(a.mesh.vertices.size(), b.mesh.vertices.size());
-  for (size_t i = 0; i < a.mesh.vertices.size(); ++i) EXPECT_EQ(a.mesh.vertices[i], b.mesh.vertices[i]);
+  for (size_t i = 0; i < a.mesh.vertices.size(); ++i)
+    EXPECT_EQ(a.mesh.vertices[i], b.mesh.vertices[i]);
   EXPECT_EQ(cv::norm(a.mesh.texture, b.mesh.texture, cv::NORM_INF), 0);
 }
 
@@ -246,9 +252,11 @@ TEST(HeadTexture, FrontViewShowsPupilsLipsAndSkinAtTheLandmarks) {
     };
     auto lum = [](const cv::Vec3b& c) { return (c[0] + c[1] + c[2]) / 3.0; };
     // Skin reference: the cheek between the nose wing and the outer eye corner.
-    const Eigen::Vector2d ref = 0.5 * (capture::project(rig.front, h.landmarks.at("alar_left")) +
-                                       capture::project(rig.front, h.landmarks.at("eye_left_outer")));
-    const cv::Vec3b cheek = front.image.at<cv::Vec3b>(static_cast<int>(ref.y()), static_cast<int>(ref.x()));
+    const Eigen::Vector2d ref =
+        0.5 * (capture::project(rig.front, h.landmarks.at("alar_left")) +
+               capture::project(rig.front, h.landmarks.at("eye_left_outer")));
+    const cv::Vec3b cheek =
+        front.image.at<cv::Vec3b>(static_cast<int>(ref.y()), static_cast<int>(ref.x()));
     for (const char* eye : {"eye_left_center", "eye_right_center"})
       EXPECT_LT(lum(bgr(eye)), 0.4 * lum(cheek)) << eye << " seed " << seed;  // pupil
     const cv::Vec3b lip = bgr("lip_lower");

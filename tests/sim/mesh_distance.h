@@ -13,7 +13,7 @@ namespace orthoface::sim {
 
 // Distance from p to triangle abc (Ericson, Real-Time Collision Detection 5.1.5).
 inline double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                               const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+                                      const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
   const double d1 = ab.dot(ap), d2 = ac.dot(ap);
   if (d1 <= 0 && d2 <= 0) return ap.norm();
@@ -37,8 +37,8 @@ inline double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vec
 inline double distance_to_mesh(const model::TriMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : m.triangles)
-    best = std::min(best, point_triangle_distance(p, m.vertices[t[0]], m.vertices[t[1]],
-                                                  m.vertices[t[2]]));
+    best = std::min(
+        best, point_triangle_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
   return best;
 }
 

@@ -13,8 +13,8 @@
 #include "render/shapes.h"
 #include "sim/face_mask.h"
 #include "sim/head.h"
-#include "sim/sim_folder.h"
 #include "sim/scan.h"
+#include "sim/sim_folder.h"
 #include "sim/truth_json.h"
 #include "tests/common/test_data.h"
 
@@ -166,8 +166,10 @@ TEST(Rig, SimHeadLandmarksLandWhereTheRendererDrawsThem) {
     worst = std::max(worst, max_projection_error(renderer, head, cap));
     for (const auto& [name, t] : cap.landmarks)
       EXPECT_NEAR(t.front_px.y(), t.side_px.y(), 1e-9) << name;  // seed 004 eq. 1
-    EXPECT_GE(check_on_rendered_surface(cap.front_depth_mm, cap.true_rig.front, cap.landmarks, true), 15);
-    EXPECT_GE(check_on_rendered_surface(cap.side_depth_mm, cap.true_rig.side, cap.landmarks, false), 6);
+    EXPECT_GE(
+        check_on_rendered_surface(cap.front_depth_mm, cap.true_rig.front, cap.landmarks, true), 15);
+    EXPECT_GE(check_on_rendered_surface(cap.side_depth_mm, cap.true_rig.side, cap.landmarks, false),
+              6);
     // The midline profile faces the side camera; the far eye does not.
     EXPECT_TRUE(cap.landmarks.at("nose_bridge").visible_side);
     EXPECT_TRUE(cap.landmarks.at("eye_left_outer").visible_side);
@@ -209,20 +211,23 @@ TEST(Rig, PerspectiveRigWithPoseErrorsStillMatchesTheRenderer) {
   // The nominal rig is what a station believes; it differs from the true one.
   const Eigen::Vector3d nose = head.landmarks.at("nose_tip");
   EXPECT_GT((capture::project(cap.nominal_rig.front, nose) - cap.landmarks.at("nose_tip").front_px)
-                .norm(), 5.0);
+                .norm(),
+            5.0);
 }
 
 TEST(Rig, PoseErrorTurnsTheTrueCameraByTheGivenAngle) {
   RigOptions o;
   o.side_error.yaw_deg = 2.0;
   const auto nominal = nominal_rig(o), truth = true_rig(o);
-  const double angle = std::acos(capture::view_direction(nominal.side)
-                                     .dot(capture::view_direction(truth.side)));
+  const double angle =
+      std::acos(capture::view_direction(nominal.side).dot(capture::view_direction(truth.side)));
   EXPECT_NEAR(angle * 180 / M_PI, 2.0, 1e-9);
   EXPECT_TRUE(truth.front.cam_from_head.isApprox(nominal.front.cam_from_head));
   // The head origin stays on the optical axis: projects to the principal point.
   EXPECT_LT((capture::project(truth.side, Eigen::Vector3d::Zero()) -
-             Eigen::Vector2d(o.width / 2.0, o.height / 2.0)).norm(), 1e-9);
+             Eigen::Vector2d(o.width / 2.0, o.height / 2.0))
+                .norm(),
+            1e-9);
 }
 
 TEST(Rig, VisibilityFollowsTheDepthTest) {
@@ -291,7 +296,8 @@ TEST(Rig, BlurSoftensTheSilhouette) {
   const Capture blurred = simulate_capture(head, o, renderer);
   EXPECT_LT(edge_energy(blurred.front), 0.7 * sharp);
   // Blur does not change the truth masks.
-  EXPECT_EQ(cv::countNonZero(blurred.front_mask != simulate_capture(head, {}, renderer).front_mask), 0);
+  EXPECT_EQ(cv::countNonZero(blurred.front_mask != simulate_capture(head, {}, renderer).front_mask),
+            0);
 }
 
 TEST(Rig, ClutteredBackgroundIsBusyDeterministicAndLeavesTheHeadAlone) {
@@ -389,8 +395,8 @@ TEST(FaceMask, CoversTheFaceNotHairEarsOrNeck) {
   EXPECT_EQ(cv::countNonZero(cap.front_face_mask & ~cap.front_mask), 0);  // inside the head
   const cv::Rect head_box = cv::boundingRect(cap.front_mask);
   const cv::Rect face_box = cv::boundingRect(cap.front_face_mask);
-  EXPECT_GT(face_box.y, head_box.y + 20);                                  // no hair cap
-  EXPECT_LT(face_box.br().y, head_box.br().y - 20);                        // no neck
+  EXPECT_GT(face_box.y, head_box.y + 20);            // no hair cap
+  EXPECT_LT(face_box.br().y, head_box.br().y - 20);  // no neck
   EXPECT_LT(cv::countNonZero(cap.front_face_mask), 0.7 * cv::countNonZero(cap.front_mask));
   // The same mask for a true view comes from true_view_camera.
   const cv::Mat m0 = face_mask(head, true_view_camera({}, 0, 0), renderer);

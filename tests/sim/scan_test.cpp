@@ -10,8 +10,8 @@
 #include "model/mesh_io.h"
 #include "model/topology.h"
 #include "tests/common/test_data.h"
-#include "vision/landmarks.h"
 #include "tests/sim/mesh_distance.h"
+#include "vision/landmarks.h"
 
 namespace orthoface::sim {
 namespace {

@@ -44,7 +44,8 @@ TEST(FaceLandmarks68, MissingOrBrokenWeightsAreRefusedByName) {
     FaceLandmarker68 net(dir.string());
     FAIL() << "a truncated weight file was accepted";
   } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("face_landmark_68_model.bin"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("face_landmark_68_model.bin"), std::string::npos)
+        << e.what();
   }
   std::filesystem::remove_all(dir);
 }
@@ -56,7 +57,7 @@ TEST(FaceLandmarks68, BadImagesAndCropsAreRefused) {
   EXPECT_THROW(net.in_crop(cv::Mat(50, 50, CV_32FC3), {0, 0, 50, 50}), std::invalid_argument);
   EXPECT_THROW(net.in_crop(grey, {0, 0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(net.in_crop(grey, {NAN, 0, 50, 50}), std::invalid_argument);
-  EXPECT_FALSE(net.detect(grey, kHaar));  // no face
+  EXPECT_FALSE(net.detect(grey, kHaar));                       // no face
   EXPECT_NO_THROW(net.in_crop(grey, {-100, -100, 400, 400}));  // outside the image: zero padding
 }
 
@@ -70,8 +71,9 @@ TEST(FaceLandmarks68, AgreesWithHumanAnnotations) {
   const FaceLandmarker68 net;
   // Started from a square a third too large and off-centre: the refinement finds the face.
   const cv::Rect2d truth_crop = crop_from_points(truth);
-  const cv::Rect2d start(truth_crop.x + 0.15 * truth_crop.width, truth_crop.y - 0.1 * truth_crop.height,
-                         1.3 * truth_crop.width, 1.3 * truth_crop.height);
+  const cv::Rect2d start(truth_crop.x + 0.15 * truth_crop.width,
+                         truth_crop.y - 0.1 * truth_crop.height, 1.3 * truth_crop.width,
+                         1.3 * truth_crop.height);
   const FaceLandmarks68 found = net.detect_in(image, start);
   const double err = mean_error_over_eye_distance(found.points, truth);
   std::printf("image_0010: network vs people, mean error %.3f of the outer-eye distance\n", err);
@@ -87,8 +89,8 @@ TEST(FaceLandmarks68, NetworkLandmarkerFillsTheFrontFeatures) {
   ObserveOptions o;
   o.landmarker = FrontLandmarker::Network;
   const FaceObservation obs = observe_front(cv::imread(path), o);
-  for (const char* n : {"eye_left_outer", "eye_right_inner", "mouth_left", "nose_tip", "chin_bottom",
-                        "brow_left_center"}) {
+  for (const char* n : {"eye_left_outer", "eye_right_inner", "mouth_left", "nose_tip",
+                        "chin_bottom", "brow_left_center"}) {
     ASSERT_TRUE(obs.front.features.count(n)) << n;
     EXPECT_EQ(obs.front.features.at(n).method, "network-68") << n;
   }

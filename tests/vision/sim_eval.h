@@ -21,8 +21,10 @@ inline std::vector<cv::Point2d> mask_edge_points(const cv::Mat& mask) {
   for (int r = 0; r < mask.rows; ++r)
     for (int c = 0; c < mask.cols; ++c) {
       const bool a = mask.at<uchar>(r, c) != 0;
-      if (c + 1 < mask.cols && a != (mask.at<uchar>(r, c + 1) != 0)) pts.emplace_back(c + 1.0, r + 0.5);
-      if (r + 1 < mask.rows && a != (mask.at<uchar>(r + 1, c) != 0)) pts.emplace_back(c + 0.5, r + 1.0);
+      if (c + 1 < mask.cols && a != (mask.at<uchar>(r, c + 1) != 0))
+        pts.emplace_back(c + 1.0, r + 0.5);
+      if (r + 1 < mask.rows && a != (mask.at<uchar>(r + 1, c) != 0))
+        pts.emplace_back(c + 0.5, r + 1.0);
     }
   return pts;
 }
@@ -34,7 +36,8 @@ inline double curve_to_mask_error(const std::vector<cv::Point2d>& curve, const c
   double sum = 0;
   for (const auto& p : curve) {
     double best = 1e18;
-    for (const auto& q : edge) best = std::min(best, (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y));
+    for (const auto& q : edge)
+      best = std::min(best, (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y));
     sum += std::sqrt(best);
   }
   return sum / curve.size();
@@ -43,7 +46,7 @@ inline double curve_to_mask_error(const std::vector<cv::Point2d>& curve, const c
 struct SimScore {
   std::map<std::string, double> front_err, side_err;  // per landmark, px (visible ones found)
   double boundary_err = -1, profile_err = -1;
-  std::vector<std::string> missing;                   // visible in truth, not in the observation
+  std::vector<std::string> missing;  // visible in truth, not in the observation
 };
 
 inline double median(std::vector<double> v) {
@@ -53,9 +56,7 @@ inline double median(std::vector<double> v) {
 }
 
 // Landmarks skipped in scoring: ears come from a position model only.
-inline bool scored(const std::string& name) {
-  return name.find("ear_") != 0;
-}
+inline bool scored(const std::string& name) { return name.find("ear_") != 0; }
 
 inline SimScore score(const vision::FaceObservation& obs, const sim::Capture& cap) {
   SimScore s;
@@ -63,13 +64,17 @@ inline SimScore score(const vision::FaceObservation& obs, const sim::Capture& ca
     if (!scored(name)) continue;
     if (t.visible_front) {
       const auto it = obs.front.features.find(name);
-      if (it == obs.front.features.end()) s.missing.push_back("front:" + name);
-      else s.front_err[name] = std::hypot(it->second.px.x - t.front_px.x(), it->second.px.y - t.front_px.y());
+      if (it == obs.front.features.end())
+        s.missing.push_back("front:" + name);
+      else
+        s.front_err[name] =
+            std::hypot(it->second.px.x - t.front_px.x(), it->second.px.y - t.front_px.y());
     }
     if (t.visible_side) {
       const auto it = obs.side.features.find(name);
       if (it != obs.side.features.end())
-        s.side_err[name] = std::hypot(it->second.px.x - t.side_px.x(), it->second.px.y - t.side_px.y());
+        s.side_err[name] =
+            std::hypot(it->second.px.x - t.side_px.x(), it->second.px.y - t.side_px.y());
     }
   }
   s.boundary_err = curve_to_mask_error(obs.front.boundary, cap.front_mask);

@@ -22,7 +22,8 @@ const sim::Capture& capture(int seed) {
   static std::map<int, sim::Capture> cache;
   auto it = cache.find(seed);
   if (it == cache.end())
-    it = cache.emplace(seed, sim::simulate_capture(sim::make_head(sim::head_params(seed)), {})).first;
+    it = cache.emplace(seed, sim::simulate_capture(sim::make_head(sim::head_params(seed)), {}))
+             .first;
   return it->second;
 }
 
@@ -56,8 +57,8 @@ TEST(Observe, EyesFoundWhenTheViewsAreNotLevel) {
   const int dy = -60;
   cv::Mat front;
   const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 0, 0, 1, dy);
-  cv::warpAffine(cap.front, front, shift, cap.front.size(),
-                 cv::INTER_NEAREST, cv::BORDER_REPLICATE);
+  cv::warpAffine(cap.front, front, shift, cap.front.size(), cv::INTER_NEAREST,
+                 cv::BORDER_REPLICATE);
   const ov::FaceObservation obs = ov::observe(front, cap.side);
   for (const char* name : {"eye_left_center", "eye_right_center"}) {
     const auto it = obs.front.features.find(name);
@@ -89,7 +90,8 @@ TEST(Observe, NearEyeFoundInTheProfile) {
   const ov::FaceObservation m = ov::observe(capture(0).front, flipped);
   const auto it = m.side.features.find("eye_right_center");
   ASSERT_NE(it, m.side.features.end());
-  EXPECT_NEAR(it->second.px.x, flipped.cols - capture(0).landmarks.at("eye_left_center").side_px.x(), 3.0);
+  EXPECT_NEAR(it->second.px.x,
+              flipped.cols - capture(0).landmarks.at("eye_left_center").side_px.x(), 3.0);
 }
 
 TEST(Observe, MirroredSideImageIsDetected) {
@@ -159,7 +161,9 @@ TEST(Observe, ConsensusTakesEachFeatureFromOneOfTheTwoDetectors) {
       ++from_filters;
     } else {
       EXPECT_LT(cv::norm(f.px - b->second.px), moved ? 0.08 * eyes : 1e-9) << name;
-      if (!a.mirrored) { EXPECT_GT(cv::norm(f.px - a.px), 0.06 * eyes) << name; }
+      if (!a.mirrored) {
+        EXPECT_GT(cv::norm(f.px - a.px), 0.06 * eyes) << name;
+      }
       ++from_network;
     }
   }
@@ -187,7 +191,8 @@ TEST(Observe, BadInputs) {
   bool flagged = false;
   try {
     for (const auto& w : ov::observe(other.side, cap.side).warnings)
-      flagged |= w.find("asymmetric") != std::string::npos || w.find("profile") != std::string::npos;
+      flagged |=
+          w.find("asymmetric") != std::string::npos || w.find("profile") != std::string::npos;
   } catch (const std::invalid_argument&) {
     flagged = true;
   }
@@ -236,10 +241,12 @@ TEST(Observe, FrontViewAlone) {
   const ov::FaceObservation obs = ov::observe_front(cap.front);
   EXPECT_TRUE(obs.side.boundary.empty());
   EXPECT_FALSE(obs.front.boundary.empty());
-  const double iod = (cap.landmarks.at("eye_left_center").front_px -
-                      cap.landmarks.at("eye_right_center").front_px).norm();
+  const double iod =
+      (cap.landmarks.at("eye_left_center").front_px - cap.landmarks.at("eye_right_center").front_px)
+          .norm();
   ASSERT_GT(iod, 10);
-  for (const char* n : {"eye_left_center", "eye_right_center", "nose_tip", "mouth_left", "mouth_right"}) {
+  for (const char* n :
+       {"eye_left_center", "eye_right_center", "nose_tip", "mouth_left", "mouth_right"}) {
     ASSERT_TRUE(obs.front.features.count(n)) << n;
     const auto& t = cap.landmarks.at(n).front_px;
     const cv::Point2d p = obs.front.features.at(n).px;
@@ -249,7 +256,8 @@ TEST(Observe, FrontViewAlone) {
   EXPECT_EQ(obs.front.features.at("nose_tip").method, "position-model");
   EXPECT_THROW(ov::observe_front(cv::Mat()), std::invalid_argument);
   // Degenerate: a blank frame gives no boundary and a warning, no throw.
-  const ov::FaceObservation none = ov::observe_front(cv::Mat(240, 320, CV_8UC3, cv::Scalar(70, 70, 70)));
+  const ov::FaceObservation none =
+      ov::observe_front(cv::Mat(240, 320, CV_8UC3, cv::Scalar(70, 70, 70)));
   EXPECT_TRUE(none.front.boundary.empty());
   EXPECT_FALSE(none.warnings.empty());
 }
@@ -263,7 +271,9 @@ TEST(Haar, FrontalFaceOnSimAndMissingCascades) {
   // and either way the option must leave a complete observation (and say when no face was found).
   const auto face = ov::haar_face(cap.front, dir, false);
   const auto& tip = cap.landmarks.at("nose_tip").front_px;
-  if (face) { EXPECT_TRUE(face->contains(cv::Point(int(tip.x()), int(tip.y())))); }
+  if (face) {
+    EXPECT_TRUE(face->contains(cv::Point(int(tip.x()), int(tip.y()))));
+  }
   ov::ObserveOptions o;
   o.use_haar = true;
   const ov::FaceObservation obs = ov::observe(cap.front, cap.side, o);

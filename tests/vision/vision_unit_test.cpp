@@ -134,9 +134,9 @@ TEST(EdgeImage, RegionMatchesTheWholeImageInsideAndIsZeroOutside) {
 // A left-facing profile polygon (crown, forehead, nose, lips, chin, under-chin, throat) closed
 // behind by the back of the head and the neck; head height 200 px.
 std::vector<cv::Point> profile_polygon() {
-  return {{150, 20},  {110, 40},  {100, 90},  {102, 110}, {80, 130}, {96, 142}, {92, 160},
-          {98, 175},  {94, 195},  {120, 215}, {160, 218}, {165, 300}, {240, 300}, {245, 200},
-          {255, 120}, {230, 40}};
+  return {{150, 20},  {110, 40},  {100, 90},  {102, 110}, {80, 130},  {96, 142},
+          {92, 160},  {98, 175},  {94, 195},  {120, 215}, {160, 218}, {165, 300},
+          {240, 300}, {245, 200}, {255, 120}, {230, 40}};
 }
 
 TEST(SideProfile, FaceProfileShapeAndFacing) {
@@ -149,7 +149,8 @@ TEST(SideProfile, FaceProfileShapeAndFacing) {
   EXPECT_TRUE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 200));
   // The back of the head (a smooth arc down to the neck) is no face.
   std::vector<cv::Point2d> back;
-  for (int i = 0; i <= 100; ++i) back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
+  for (int i = 0; i <= 100; ++i)
+    back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
   EXPECT_FALSE(ov::reads_as_face_profile(back, 200));
   EXPECT_FALSE(ov::reads_as_face_profile({}, 200));                      // degenerate input
   EXPECT_FALSE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 0));  // no head height
@@ -177,23 +178,24 @@ TEST(SideEye, FindsTheBlobBehindTheProfileAndNothingOnSkin) {
   const double H = 400, xp = 100;
   const ov::FilterContext plain = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
   EXPECT_FALSE(ov::find_side_eye(plain, xp, 100, H, +1).ok);
-  cv::ellipse(img, cv::Point(140, 100), cv::Size(10, 4), 0, 0, 360, cv::Scalar(240, 240, 240), cv::FILLED);
+  cv::ellipse(img, cv::Point(140, 100), cv::Size(10, 4), 0, 0, 360, cv::Scalar(240, 240, 240),
+              cv::FILLED);
   cv::circle(img, cv::Point(134, 100), 3, cv::Scalar(60, 30, 20), cv::FILLED);
   const ov::FilterContext c = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
   const ov::EyeFound e = ov::find_side_eye(c, xp, 100, H, +1);
   ASSERT_TRUE(e.ok);
-  EXPECT_NEAR(e.corner_image_left.x, 130, 2.0);   // front end
-  EXPECT_NEAR(e.corner_image_right.x, 150, 2.0);  // back end: the outer corner
-  EXPECT_NEAR(e.centre.x, 134, 2.0);              // the iris
+  EXPECT_NEAR(e.corner_image_left.x, 130, 2.0);             // front end
+  EXPECT_NEAR(e.corner_image_right.x, 150, 2.0);            // back end: the outer corner
+  EXPECT_NEAR(e.centre.x, 134, 2.0);                        // the iris
   EXPECT_FALSE(ov::find_side_eye(c, 1000, 100, H, +1).ok);  // window off the image
   EXPECT_FALSE(ov::find_side_eye(c, xp, 100, 0, +1).ok);    // no head height
 }
 
 TEST(ContourChain, HeadWidthIgnoresTheShoulders) {
   cv::Mat mask(400, 400, CV_8U, cv::Scalar(0));
-  cv::circle(mask, {200, 100}, 50, cv::Scalar(255), cv::FILLED);       // head, 101 px wide
-  mask(cv::Rect(185, 140, 31, 100)).setTo(255);                          // neck
-  mask(cv::Rect(40, 240, 320, 160)).setTo(255);                          // shoulders
+  cv::circle(mask, {200, 100}, 50, cv::Scalar(255), cv::FILLED);  // head, 101 px wide
+  mask(cv::Rect(185, 140, 31, 100)).setTo(255);                   // neck
+  mask(cv::Rect(40, 240, 320, 160)).setTo(255);                   // shoulders
   EXPECT_NEAR(ov::head_width(ov::row_extent(mask)), 101, 1);
   EXPECT_EQ(ov::head_width(ov::row_extent(cv::Mat(10, 10, CV_8U, cv::Scalar(0)))), 0.0);
   EXPECT_THROW(ov::row_extent(cv::Mat()), std::invalid_argument);
@@ -249,7 +251,9 @@ TEST(Segment, BorderModelFindsACentralDisc) {
   ASSERT_FALSE(m.empty());
   EXPECT_NEAR(cv::countNonZero(m), M_PI * 50 * 50, 300);
   // Degenerate: a blank image has no head; a background frame of another size is refused.
-  EXPECT_TRUE(ov::head_mask(ov::foreground_probability(cv::Mat(200, 200, CV_8UC3, cv::Scalar(9, 9, 9)), cv::Mat())).empty());
+  EXPECT_TRUE(ov::head_mask(ov::foreground_probability(
+                                cv::Mat(200, 200, CV_8UC3, cv::Scalar(9, 9, 9)), cv::Mat()))
+                  .empty());
   EXPECT_THROW(ov::foreground_probability(img, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
   EXPECT_THROW(ov::foreground_probability(cv::Mat(), cv::Mat()), std::invalid_argument);
   EXPECT_THROW(ov::head_mask(cv::Mat(10, 10, CV_8U)), std::invalid_argument);

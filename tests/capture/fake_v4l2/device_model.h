@@ -25,7 +25,6 @@
 
 namespace fake_v4l2 {
 
-
 inline constexpr int kSizes[][2] = {{320, 240}, {640, 480}, {1280, 720}};
 inline constexpr unsigned kFormats[] = {V4L2_PIX_FMT_YUYV, V4L2_PIX_FMT_MJPEG};
 inline constexpr unsigned kFpsList[] = {30, 15};
@@ -52,7 +51,8 @@ inline std::map<std::string, std::string> served_paths() {
   size_t start = 0;
   while (start < s.size()) {
     size_t comma = s.find(',', start);
-    std::string item = s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    std::string item =
+        s.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     size_t eq = item.find('=');
     if (!item.empty()) out[item.substr(0, eq)] = eq == std::string::npos ? "" : item.substr(eq + 1);
     if (comma == std::string::npos) break;

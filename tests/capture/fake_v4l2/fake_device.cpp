@@ -48,9 +48,7 @@ std::shared_ptr<Device> device_of(int fd) { return file_of(fd).device; }
 
 }  // namespace
 
-bool is_served(const char* path) {
-  return path && served_paths().count(path) > 0;
-}
+bool is_served(const char* path) { return path && served_paths().count(path) > 0; }
 
 bool is_plugged(const char* path) { return !file_exists(ctl_file(path, "unplug")); }
 

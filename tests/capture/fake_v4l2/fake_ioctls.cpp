@@ -1,8 +1,8 @@
 // The ioctls of the fake V4L2 device, written after the V4L2 specification and videobuf2.
-#include <cmath>
 #include <sys/eventfd.h>
 #include <sys/mman.h>
 #include <unistd.h>
+#include <cmath>
 
 #include <cstring>
 
@@ -29,7 +29,8 @@ int querycap(v4l2_capability* c) {
   std::memset(c, 0, sizeof(*c));
   std::snprintf(reinterpret_cast<char*>(c->driver), sizeof(c->driver), "orthoface_fake");
   std::snprintf(reinterpret_cast<char*>(c->card), sizeof(c->card), "orthoface fake camera");
-  std::snprintf(reinterpret_cast<char*>(c->bus_info), sizeof(c->bus_info), "platform:orthoface-fake");
+  std::snprintf(reinterpret_cast<char*>(c->bus_info), sizeof(c->bus_info),
+                "platform:orthoface-fake");
   c->version = kernel_version();
   c->device_caps = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING | V4L2_CAP_EXT_PIX_FORMAT;
   c->capabilities = c->device_caps | V4L2_CAP_DEVICE_CAPS;
@@ -91,26 +92,47 @@ int inputs(unsigned long request, void* arg) {
 }  // namespace
 
 int Device::ioctl(int fd, unsigned long request, void* arg) {
-  static const unsigned long kKnown[] = {
-      VIDIOC_QUERYCAP, VIDIOC_ENUM_FMT, VIDIOC_ENUM_FRAMESIZES, VIDIOC_ENUM_FRAMEINTERVALS,
-      VIDIOC_ENUMINPUT, VIDIOC_G_INPUT, VIDIOC_S_INPUT, VIDIOC_G_FMT, VIDIOC_S_FMT,
-      VIDIOC_TRY_FMT, VIDIOC_G_PARM, VIDIOC_S_PARM, VIDIOC_REQBUFS, VIDIOC_QUERYBUF,
-      VIDIOC_QBUF, VIDIOC_DQBUF, VIDIOC_STREAMON, VIDIOC_STREAMOFF, VIDIOC_G_PRIORITY,
-      VIDIOC_S_PRIORITY};
+  static const unsigned long kKnown[] = {VIDIOC_QUERYCAP,
+                                         VIDIOC_ENUM_FMT,
+                                         VIDIOC_ENUM_FRAMESIZES,
+                                         VIDIOC_ENUM_FRAMEINTERVALS,
+                                         VIDIOC_ENUMINPUT,
+                                         VIDIOC_G_INPUT,
+                                         VIDIOC_S_INPUT,
+                                         VIDIOC_G_FMT,
+                                         VIDIOC_S_FMT,
+                                         VIDIOC_TRY_FMT,
+                                         VIDIOC_G_PARM,
+                                         VIDIOC_S_PARM,
+                                         VIDIOC_REQBUFS,
+                                         VIDIOC_QUERYBUF,
+                                         VIDIOC_QBUF,
+                                         VIDIOC_DQBUF,
+                                         VIDIOC_STREAMON,
+                                         VIDIOC_STREAMOFF,
+                                         VIDIOC_G_PRIORITY,
+                                         VIDIOC_S_PRIORITY};
   if (std::find(std::begin(kKnown), std::end(kKnown), request) == std::end(kKnown))
     return fail(ENOTTY);  // controls, events, std, tuner, ...: not offered
   if (!arg) return fail(EFAULT);
   std::unique_lock<std::mutex> lock(m_);
   // v4l2-ioctl.c: these need the highest priority among the open files.
   switch (request) {
-    case VIDIOC_S_FMT: case VIDIOC_S_INPUT: case VIDIOC_S_PARM: case VIDIOC_REQBUFS:
-    case VIDIOC_STREAMON: case VIDIOC_STREAMOFF: case VIDIOC_S_PRIORITY:
+    case VIDIOC_S_FMT:
+    case VIDIOC_S_INPUT:
+    case VIDIOC_S_PARM:
+    case VIDIOC_REQBUFS:
+    case VIDIOC_STREAMON:
+    case VIDIOC_STREAMOFF:
+    case VIDIOC_S_PRIORITY:
       if (prio_of(fd) < max_prio()) return fail(EBUSY);
       break;
-    default: break;
+    default:
+      break;
   }
   switch (request) {
-    case VIDIOC_G_PRIORITY: return *static_cast<unsigned*>(arg) = max_prio(), 0;
+    case VIDIOC_G_PRIORITY:
+      return *static_cast<unsigned*>(arg) = max_prio(), 0;
     case VIDIOC_S_PRIORITY: {
       const unsigned p = *static_cast<unsigned*>(arg);
       if (p != V4L2_PRIORITY_BACKGROUND && p != V4L2_PRIORITY_INTERACTIVE &&
@@ -119,23 +141,40 @@ int Device::ioctl(int fd, unsigned long request, void* arg) {
       prio_[fd] = p;
       return 0;
     }
-    case VIDIOC_QUERYCAP: return querycap(static_cast<v4l2_capability*>(arg));
-    case VIDIOC_ENUM_FMT: return enum_fmt(static_cast<v4l2_fmtdesc*>(arg));
-    case VIDIOC_ENUM_FRAMESIZES: return enum_framesizes(static_cast<v4l2_frmsizeenum*>(arg));
+    case VIDIOC_QUERYCAP:
+      return querycap(static_cast<v4l2_capability*>(arg));
+    case VIDIOC_ENUM_FMT:
+      return enum_fmt(static_cast<v4l2_fmtdesc*>(arg));
+    case VIDIOC_ENUM_FRAMESIZES:
+      return enum_framesizes(static_cast<v4l2_frmsizeenum*>(arg));
     case VIDIOC_ENUM_FRAMEINTERVALS:
       return enum_frameintervals(static_cast<v4l2_frmivalenum*>(arg));
-    case VIDIOC_ENUMINPUT: case VIDIOC_G_INPUT: case VIDIOC_S_INPUT: return inputs(request, arg);
-    case VIDIOC_G_FMT: case VIDIOC_S_FMT: case VIDIOC_TRY_FMT:
+    case VIDIOC_ENUMINPUT:
+    case VIDIOC_G_INPUT:
+    case VIDIOC_S_INPUT:
+      return inputs(request, arg);
+    case VIDIOC_G_FMT:
+    case VIDIOC_S_FMT:
+    case VIDIOC_TRY_FMT:
       return fmt_ioctl(fd, request, static_cast<v4l2_format*>(arg));
-    case VIDIOC_G_PARM: return parm(static_cast<v4l2_streamparm*>(arg), false);
-    case VIDIOC_S_PARM: return parm(static_cast<v4l2_streamparm*>(arg), true);
-    case VIDIOC_REQBUFS: return reqbufs(fd, static_cast<v4l2_requestbuffers*>(arg));
-    case VIDIOC_QUERYBUF: return querybuf(static_cast<v4l2_buffer*>(arg));
-    case VIDIOC_QBUF: return qbuf(fd, static_cast<v4l2_buffer*>(arg));
-    case VIDIOC_DQBUF: return dqbuf(fd, static_cast<v4l2_buffer*>(arg), lock);
-    case VIDIOC_STREAMON: return streamon(fd, static_cast<int*>(arg));
-    case VIDIOC_STREAMOFF: return streamoff(fd, static_cast<int*>(arg));
-    default: return fail(ENOTTY);
+    case VIDIOC_G_PARM:
+      return parm(static_cast<v4l2_streamparm*>(arg), false);
+    case VIDIOC_S_PARM:
+      return parm(static_cast<v4l2_streamparm*>(arg), true);
+    case VIDIOC_REQBUFS:
+      return reqbufs(fd, static_cast<v4l2_requestbuffers*>(arg));
+    case VIDIOC_QUERYBUF:
+      return querybuf(static_cast<v4l2_buffer*>(arg));
+    case VIDIOC_QBUF:
+      return qbuf(fd, static_cast<v4l2_buffer*>(arg));
+    case VIDIOC_DQBUF:
+      return dqbuf(fd, static_cast<v4l2_buffer*>(arg), lock);
+    case VIDIOC_STREAMON:
+      return streamon(fd, static_cast<int*>(arg));
+    case VIDIOC_STREAMOFF:
+      return streamoff(fd, static_cast<int*>(arg));
+    default:
+      return fail(ENOTTY);
   }
 }
 

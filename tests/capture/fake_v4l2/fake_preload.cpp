@@ -14,8 +14,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "fake_device.h"
@@ -166,8 +166,7 @@ int select(int nfds, fd_set* rd, fd_set* wr, fd_set* ex, timeval* tv) {
   for (const pollfd& q : p) {  // kernel select: POLLERR counts as readable and writable
     if (rd && (q.events & POLLIN) && (q.revents & (POLLIN | POLLERR | POLLHUP)))
       FD_SET(q.fd, rd), ++count;
-    if (wr && (q.events & POLLOUT) && (q.revents & (POLLOUT | POLLERR)))
-      FD_SET(q.fd, wr), ++count;
+    if (wr && (q.events & POLLOUT) && (q.revents & (POLLOUT | POLLERR))) FD_SET(q.fd, wr), ++count;
     if (ex && (q.events & POLLPRI) && (q.revents & POLLPRI)) FD_SET(q.fd, ex), ++count;
   }
   return count;

@@ -24,7 +24,8 @@ int main(int argc, char** argv) {
     const double end = orthoface::capture::monotonic_now_s() + seconds;
     while (orthoface::capture::monotonic_now_s() < end) {
       auto r = cam->next_frame(1.0);
-      if (r.status == orthoface::capture::FrameStatus::Ok) fake_v4l2::write_frame_file(file, r.frame.image);
+      if (r.status == orthoface::capture::FrameStatus::Ok)
+        fake_v4l2::write_frame_file(file, r.frame.image);
     }
   };
   std::thread a(feed, "front", argv[2]), b(feed, "side", argv[3]);

@@ -18,8 +18,8 @@ cv::Mat read_frame_file(const std::string& path) {
   int size[2];
   cv::Mat m;
   if (std::fread(magic, 1, 4, f) == 4 && !std::memcmp(magic, "OFV1", 4) &&
-      std::fread(size, sizeof(int), 2, f) == 2 && size[0] > 0 && size[1] > 0 &&
-      size[0] <= 8192 && size[1] <= 8192) {
+      std::fread(size, sizeof(int), 2, f) == 2 && size[0] > 0 && size[1] > 0 && size[0] <= 8192 &&
+      size[1] <= 8192) {
     m.create(size[1], size[0], CV_8UC3);
     if (std::fread(m.data, 1, m.total() * 3, f) != m.total() * 3) m.release();
   }
