@@ -10,6 +10,7 @@
 
 #include "model/mesh_io.h"
 #include "sim/head.h"
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -17,26 +18,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string err, out;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using Result = testing::CommandResult;
+using testing::slurp;
 
 Result run(const std::string& binary, const std::string& args, const fs::path& work) {
-  const std::string cmd = "cd '" + work.string() + "' && " + binary + " " + args + " >'" +
-                          (work / "out.txt").string() + "' 2>'" + (work / "err.txt").string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(work / "err.txt"),
-          slurp(work / "out.txt")};
+  return testing::run_in(work, binary + " " + args);
 }
 
 Result orthoface(const std::string& args, const fs::path& work) {
-  return run(std::string("'") + ORTHOFACE_BINARY + "'", args, work);
+  return testing::run_orthoface(args, work);
 }
 
 // One "error:" line naming the input, non-zero exit.

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -18,17 +19,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using testing::slurp;
 
 // Exit code of `orthoface <args>` run in `work`; stdout / stderr land in work/out.txt, err.txt.
 int run_demo(const std::string& args, const fs::path& work) {
-  const std::string cmd =
-      "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args + " >out.txt 2>err.txt";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::run_orthoface(args, work).code;
 }
 
 TEST(DemoCommand, WritesAContactSheetAndOneFolderPerSubject) {

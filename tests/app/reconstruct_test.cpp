@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -17,22 +18,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using Result = testing::CommandResult;
+using testing::slurp;
 
 Result run(const std::string& args, const fs::path& work) {
-  const fs::path o = work / "stdout.txt", e = work / "stderr.txt";
-  const std::string cmd = "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args +
-                          " >'" + o.string() + "' 2>'" + e.string() + "'";
-  const int status = std::system(cmd.c_str());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(o), slurp(e)};
+  return testing::run_orthoface(args, work);
 }
 
 // One simulated subject shared by the tests of this file.

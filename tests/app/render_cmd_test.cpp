@@ -16,6 +16,7 @@
 #include "render/image_metrics.h"
 #include "render/renderer.h"
 #include "render/shapes.h"
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -23,16 +24,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using testing::slurp;
 
+// Exit code of `orthoface <args>` run in `work`; stdout / stderr land in work/out.txt, err.txt.
 int run(const std::string& args, const fs::path& work) {
-  const std::string cmd =
-      "cd '" + work.string() + "' && '" + ORTHOFACE_BINARY + "' " + args + " >out.txt 2>err.txt";
-  const int status = std::system(cmd.c_str());
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return testing::run_orthoface(args, work).code;
 }
 
 // A reconstruction folder of a textured ellipsoid seen by the ideal rig; returns the textured

@@ -14,6 +14,7 @@
 #include "capture/camera_model.h"
 #include "model/mesh_io.h"
 #include "sim/truth_json.h"
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -21,27 +22,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ProcessResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p);
-  return std::string(std::istreambuf_iterator<char>(f), {});
-}
+using ProcessResult = testing::CommandResult;
+using testing::slurp;
 
 // Runs `orthoface <args>` with stdout / stderr captured in `work`.
 ProcessResult run(const std::string& args, const fs::path& work) {
-  const fs::path o = work / "stdout.txt", e = work / "stderr.txt";
-  const std::string cmd = std::string("cd '") + work.string() + "' && '" + ORTHOFACE_BINARY + "' " +
-                          args + " >'" + o.string() + "' 2>'" + e.string() + "'";
-  const int status = std::system(cmd.c_str());
-  ProcessResult r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(o);
-  r.err = slurp(e);
-  return r;
+  return testing::run_orthoface(args, work);
 }
 
 int count_lines(const std::string& s) {

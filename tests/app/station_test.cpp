@@ -1,5 +1,5 @@
-// The capture commands end to end: the orthoface binary on the simulated rig and through the
-// fake V4L2 device; the HTTP page in headless Chromium when it is installed.
+// The capture and station commands end to end: the orthoface binary on the simulated rig and
+// through the fake V4L2 device; the HTTP page in headless Chromium when it is installed.
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
