@@ -12,7 +12,7 @@
 
 namespace orthoface::app {
 
-capture::CameraModel view_camera(const model::TriMesh& mesh, const Eigen::Vector3d& view_dir,
+capture::CameraModel view_camera(const mesh::TriMesh& mesh, const Eigen::Vector3d& view_dir,
                                  const Eigen::Vector3d& up, int size) {
   Eigen::AlignedBox3d box;
   for (const auto& v : mesh.vertices) box.extend(v);
@@ -41,7 +41,7 @@ capture::CameraModel view_camera(const model::TriMesh& mesh, const Eigen::Vector
   return cam;
 }
 
-cv::Mat render_view(const model::TriMesh& mesh, const capture::CameraModel& camera,
+cv::Mat render_view(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                     const std::vector<Marker>& markers) {
   render::RenderOptions ro;
   ro.background = cv::Scalar(255, 255, 255);
@@ -49,7 +49,7 @@ cv::Mat render_view(const model::TriMesh& mesh, const capture::CameraModel& came
   ro.light.ambient = 0.35;
   ro.light.diffuse = 0.65;
   ro.cull_back_faces = false;  // scans may have inconsistent orientation
-  model::TriMesh plain;
+  mesh::TriMesh plain;
   plain.vertices = mesh.vertices;
   plain.triangles = mesh.triangles;
   plain.colors = mesh.colors;

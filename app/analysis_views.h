@@ -9,7 +9,7 @@
 #include <opencv2/core.hpp>
 
 #include "capture/camera_model.h"
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::app {
 
@@ -21,11 +21,11 @@ struct Marker {
 
 // Orthographic camera of size x size pixels looking along `view_dir` at the mesh's bounding-box
 // centre, image up along `up` (made orthogonal), the whole mesh in view.
-capture::CameraModel view_camera(const model::TriMesh& mesh, const Eigen::Vector3d& view_dir,
+capture::CameraModel view_camera(const mesh::TriMesh& mesh, const Eigen::Vector3d& view_dir,
                                  const Eigen::Vector3d& up, int size);
 
 // Shaded render of `mesh` (its colours, else grey) with markers on the visible side.
-cv::Mat render_view(const model::TriMesh& mesh, const capture::CameraModel& camera,
+cv::Mat render_view(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                     const std::vector<Marker>& markers);
 
 // Blue (0) -> green -> red (1) colour for a value in [0, 1] (clamped), RGB in [0, 1].

@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "analysis/similarity.h"
 #include "app/pipeline.h"
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
-#include "model/similarity.h"
+#include "mesh/mesh_io.h"
 
 namespace fs = std::filesystem;
 using namespace orthoface;
@@ -138,7 +138,7 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   std::sort(items.begin(), items.end());
   const int n = int(items.size());
   if (n < 2) throw std::runtime_error(dir.string() + ": needs at least two meshes");
-  const model::SimilarityOptions options;
+  const analysis::SimilarityOptions options;
   const int len = options.iso_geodesics * options.radial_geodesics;
   // Each rank builds the signatures of its meshes; rank 0 gets all metric vectors (4 x len).
   std::vector<double> metrics(size_t(n) * 4 * len, 0.0), status(n, 0.0), ms(n, 0.0);
@@ -146,7 +146,7 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   for (int i : my_items(n, rank, size)) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      const auto s = model::face_signature(model::read_mesh(items[i].string()), options);
+      const auto s = analysis::face_signature(mesh::read_mesh(items[i].string()), options);
       const std::vector<double>* parts[] = {&s.mean, &s.gaussian, &s.shape_index, &s.curvedness};
       for (int k = 0; k < 4; ++k)
         std::copy(parts[k]->begin(), parts[k]->end(), metrics.begin() + (size_t(i) * 4 + k) * len);
@@ -172,14 +172,14 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
     for (int i = 0; i < n; ++i) {
       csv << items[i].filename().string();
       for (int j = 0; j < n; ++j) {
-        model::FaceSignature a, b;
-        auto fill = [&](model::FaceSignature& s, int m) {
+        analysis::FaceSignature a, b;
+        auto fill = [&](analysis::FaceSignature& s, int m) {
           s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len,
                         all.begin() + (size_t(m) * 4 + k + 1) * len);
           s.gaussian = s.shape_index = s.curvedness = s.mean;
         };
         fill(a, i), fill(b, j);
-        const double v = status[i] > 0.5 && status[j] > 0.5 ? model::similarity(a, b).mean : NAN;
+        const double v = status[i] > 0.5 && status[j] > 0.5 ? analysis::similarity(a, b).mean : NAN;
         csv << "," << v;
       }
       csv << "\n";

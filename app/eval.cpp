@@ -12,8 +12,8 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/pipeline.h"
+#include "mesh/mesh_io.h"
 #include "model/evaluate.h"
-#include "model/mesh_io.h"
 #include "render/renderer.h"
 #include "sim/truth_json.h"
 
@@ -35,7 +35,7 @@ Command eval_command() {
           1};
 }
 
-cv::Mat error_picture(const model::TriMesh& colored, const capture::CameraModel& front) {
+cv::Mat error_picture(const mesh::TriMesh& colored, const capture::CameraModel& front) {
   render::Renderer renderer;
   render::RenderOptions o;
   o.background = cv::Scalar(255, 255, 255);
@@ -66,27 +66,27 @@ int run_eval(int argc, char** argv) {
   const fs::path dir = args.positional[0];
   require_file((dir / "head.obj").string(), "reconstruction mesh");
   require_file((dir / "landmarks.json").string(), "reconstruction landmarks");
-  const model::TriMesh rec = model::read_mesh((dir / "head.obj").string(), {false, ""});
+  const mesh::TriMesh rec = mesh::read_mesh((dir / "head.obj").string(), {false, ""});
   const Landmarks rec_landmarks = read_landmarks((dir / "landmarks.json").string());
   const fs::path truth_path = args.get("truth");
-  model::TriMesh truth;
+  mesh::TriMesh truth;
   Landmarks truth_landmarks;
   if (fs::is_directory(truth_path)) {
     const sim::Truth t = sim::read_truth_json((truth_path / "landmarks.json").string());
-    truth = model::read_mesh((truth_path / t.mesh_file).string(), {false, ""});
+    truth = mesh::read_mesh((truth_path / t.mesh_file).string(), {false, ""});
     for (const auto& [name, l] : t.landmarks) truth_landmarks[name] = l.xyz_mm;
   } else {
     require_file(truth_path.string(), "--truth");
-    truth = model::read_mesh(truth_path.string(), {false, ""});
+    truth = mesh::read_mesh(truth_path.string(), {false, ""});
   }
   // With a bare mesh as truth the face region comes from the reconstruction's own landmarks.
   const model::FaceRegion region =
       model::face_region(truth_landmarks.empty() ? rec_landmarks : truth_landmarks);
   const model::ErrorReport e =
       model::reconstruction_error(rec, truth, region, rec_landmarks, truth_landmarks);
-  const model::TriMesh colored =
+  const mesh::TriMesh colored =
       model::error_colored(rec, model::signed_distances(rec.vertices, truth), range);
-  model::write_mesh(colored, (dir / "error.ply").string());
+  mesh::write_mesh(colored, (dir / "error.ply").string());
   capture::CameraModel front = capture::ideal_rig(640, 480, 1.6).front;
   if (fs::exists(dir / "rig.yaml")) front = capture::read_rig((dir / "rig.yaml").string()).front;
   const cv::Mat picture = error_picture(colored, front);

@@ -7,11 +7,11 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
 
+#include "analysis/mpeg4_features.h"
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
-#include "model/mesh_io.h"
-#include "model/mpeg4_features.h"
+#include "mesh/mesh_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -31,7 +31,7 @@ Command features_command() {
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json report_json(const model::TriMesh& mesh, const model::FeatureReport& r) {
+nlohmann::json report_json(const mesh::TriMesh& mesh, const analysis::FeatureReport& r) {
   nlohmann::json j;
   auto key = [&](const std::optional<int>& v) {
     return v ? nlohmann::json{{"vertex", *v}, {"position", vec(mesh.vertices[*v])}}
@@ -70,8 +70,8 @@ void write_text_atomic(const std::filesystem::path& path, const std::string& tex
   std::filesystem::rename(tmp, path);
 }
 
-cv::Mat picture(const model::TriMesh& mesh, const model::FeatureReport& r, int size) {
-  model::TriMesh m;
+cv::Mat picture(const mesh::TriMesh& mesh, const analysis::FeatureReport& r, int size) {
+  mesh::TriMesh m;
   m.vertices = mesh.vertices, m.triangles = mesh.triangles;
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     m.colors.push_back(r.cluster[v] >= 0 ? label_rgb(r.cluster[v])
@@ -100,16 +100,16 @@ int run_features(int argc, char** argv) {
   if (args.help) return print_help(cmd), 0;
   if (args.positional.size() != 1 || !args.has("o"))
     throw std::invalid_argument("features: needs MESH and -o DIR (orthoface features --help)");
-  model::FeatureOptions options;
+  analysis::FeatureOptions options;
   if (args.has("neighbourhood"))
     options.neighbourhood = to_double("neighbourhood", args.get("neighbourhood"), 0.001, 0.45);
   const int size = args.has("size") ? to_int("size", args.get("size"), 64, 4096) : 400;
   options.check();
   const std::string path = args.positional[0];
   require_file(path, "mesh");
-  const model::TriMesh mesh = model::read_mesh(path);
+  const mesh::TriMesh mesh = mesh::read_mesh(path);
   const auto t0 = std::chrono::steady_clock::now();
-  const model::FeatureReport r = model::mpeg4_features(mesh, options);
+  const analysis::FeatureReport r = analysis::mpeg4_features(mesh, options);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::filesystem::path dir = args.get("o");
   prepare_output_dir(dir.string());

@@ -11,8 +11,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
-#include "model/mesh_io.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
 #include "vision/registration.h"
@@ -87,7 +87,7 @@ capture::RigCalibration default_rig(const vision::FaceObservation& obs, std::str
   return rig;
 }
 
-void add_texture(const cv::Mat& front, const capture::CameraModel& cam, model::TriMesh& mesh) {
+void add_texture(const cv::Mat& front, const capture::CameraModel& cam, mesh::TriMesh& mesh) {
   if (front.empty()) return;
   cv::Mat bgr = front;
   if (front.channels() == 1) cv::cvtColor(front, bgr, cv::COLOR_GRAY2BGR);

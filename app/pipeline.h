@@ -41,7 +41,7 @@ struct ReconstructionReport {
 
 struct Reconstruction {
   vision::FaceObservation observation;
-  model::TriMesh mesh;  // adapted base mesh, head frame mm; uvs into `texture` = the front photo
+  mesh::TriMesh mesh;  // adapted base mesh, head frame mm; uvs into `texture` = the front photo
   std::map<std::string, Eigen::Vector3d> landmarks;  // head frame, mm
   capture::RigCalibration rig;                       // the rig used (written as rig.yaml)
   cv::Mat front, side;                               // the photos used

@@ -8,7 +8,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "app/pipeline.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "render/new_view.h"
 #include "vision/observation_io.h"
 
@@ -81,7 +81,7 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   fs::remove_all(tmp, ec);
   try {
     fs::create_directories(tmp);
-    model::write_mesh(r.mesh, (tmp / "head.obj").string());
+    mesh::write_mesh(r.mesh, (tmp / "head.obj").string());
     write_png(r.front, tmp / "front.png");
     write_png(r.side, tmp / "side.png");
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());

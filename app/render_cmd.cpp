@@ -16,7 +16,7 @@
 #include "app/commands.h"
 #include "app/pipeline.h"
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "model/symmetry.h"
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
@@ -103,7 +103,7 @@ void write_image(const cv::Mat& image, const fs::path& path) {
 }
 
 struct Folder {
-  model::TriMesh mesh;
+  mesh::TriMesh mesh;
   capture::RigCalibration rig;  // where the photos were taken (capture::photo_rig)
   cv::Mat front, side;
   cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
@@ -115,9 +115,9 @@ Folder read_folder(const fs::path& dir) {
   Folder f;
   for (const char* name : {"head.obj", "front.png", "side.png"})
     require_file((dir / name).string(), "reconstruction folder " + dir.string() + ": " + name);
-  model::MeshReadOptions ro;
+  mesh::MeshReadOptions ro;
   ro.load_texture = false;
-  f.mesh = model::read_mesh((dir / "head.obj").string(), ro);
+  f.mesh = mesh::read_mesh((dir / "head.obj").string(), ro);
   f.mesh.uvs.clear();
   f.mesh.texture = cv::Mat();
   for (auto [name, image] : {std::pair{"front.png", &f.front}, {"side.png", &f.side}}) {
@@ -188,14 +188,14 @@ void export_mesh(const Folder& f, const fs::path& path, bool equalize) {
   o.equalize = equalize;
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
-    model::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o),
-                      path.string());
+    mesh::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o),
+                     path.string());
   } else {
-    const model::TriMesh m = render::inherit_texture(f.mesh, f.rig, f.front, f.side, o).mesh;
+    const mesh::TriMesh m = render::inherit_texture(f.mesh, f.rig, f.front, f.side, o).mesh;
     if (ext == ".glb")
       render::write_glb(m, path.string());
     else
-      model::write_mesh(m, path.string());
+      mesh::write_mesh(m, path.string());
   }
   std::printf("wrote %s\n", path.string().c_str());
 }

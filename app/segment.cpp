@@ -6,11 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "analysis/motion_areas.h"
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
-#include "model/mesh_io.h"
-#include "model/segmentation.h"
+#include "mesh/mesh_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -58,7 +58,7 @@ int run_segment(int argc, char** argv) {
   if (args.help) return print_help(cmd), 0;
   if (args.positional.size() != 1 || !args.has("points") || !args.has("o"))
     throw std::invalid_argument("segment: needs MESH, --points FP.json and -o DIR");
-  model::SegmentationOptions options;
+  analysis::SegmentationOptions options;
   if (args.has("centre")) options.centre = parse_xyz("centre", args.get("centre"));
   if (args.has("smooth")) {
     options.smooth_weights = true;
@@ -67,9 +67,9 @@ int run_segment(int argc, char** argv) {
   options.check();
   require_file(args.positional[0], "mesh");
   require_file(args.get("points"), "feature-point file");
-  const model::TriMesh mesh = model::read_mesh(args.positional[0]);
-  const auto points = model::read_feature_points(args.get("points"), args.has("any-names"));
-  const model::Segmentation s = model::segment_by_feature_points(mesh, points, options);
+  const mesh::TriMesh mesh = mesh::read_mesh(args.positional[0]);
+  const auto points = analysis::read_feature_points(args.get("points"), args.has("any-names"));
+  const analysis::Segmentation s = analysis::segment_by_feature_points(mesh, points, options);
   const std::filesystem::path dir = args.get("o");
   prepare_output_dir(dir.string());
   std::string csv = "fp,name,n,percent\n";  // seed 001 Table V
@@ -85,10 +85,10 @@ int run_segment(int argc, char** argv) {
       dir / "membership.json",
       nlohmann::json{{"mesh", args.positional[0]}, {"areas", table}, {"label", s.label}}.dump(1) +
           "\n");
-  model::TriMesh colored;
+  mesh::TriMesh colored;
   colored.vertices = mesh.vertices, colored.triangles = mesh.triangles;
   for (int l : s.label) colored.colors.push_back(label_rgb(l));
-  model::write_mesh(colored, (dir / "areas.ply").string());
+  mesh::write_mesh(colored, (dir / "areas.ply").string());
   std::vector<Marker> markers;
   for (const auto& p : points) markers.push_back({p.position, p.name});
   write_image_atomic(

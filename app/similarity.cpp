@@ -5,11 +5,11 @@
 
 #include <opencv2/imgproc.hpp>
 
+#include "analysis/similarity.h"
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
-#include "model/mesh_io.h"
-#include "model/similarity.h"
+#include "mesh/mesh_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -29,7 +29,7 @@ Command similarity_command() {
 
 const char* kMetrics[] = {"mean", "gaussian", "shape_index", "curvedness"};
 
-double metric(const model::SimilarityScores& s, int k) {
+double metric(const analysis::SimilarityScores& s, int k) {
   return k == 0 ? s.mean : k == 1 ? s.gaussian : k == 2 ? s.shape_index : s.curvedness;
 }
 
@@ -60,21 +60,22 @@ int run_similarity(int argc, char** argv) {
   if (files.size() < 2) throw std::invalid_argument("similarity: needs at least two meshes");
   if (files.size() > 2 && !args.has("o"))
     throw std::invalid_argument("similarity: more than two meshes need -o DIR for the matrices");
-  model::SimilarityOptions options;
+  analysis::SimilarityOptions options;
   if (args.has("geodesics"))
     options.radial_geodesics = to_int("geodesics", args.get("geodesics"), 3, 360);
   if (args.has("radius")) options.radius = to_double("radius", args.get("radius"), 1e-9, 1e9);
   options.check();
-  std::vector<model::FaceSignature> sig;
+  std::vector<analysis::FaceSignature> sig;
   for (const auto& f : files) {
     require_file(f, "mesh");
-    sig.push_back(model::face_signature(model::read_mesh(f), options));
+    sig.push_back(analysis::face_signature(mesh::read_mesh(f), options));
     for (const auto& w : sig.back().warnings) std::printf("%s: %s\n", f.c_str(), w.c_str());
   }
   const size_t n = sig.size();
-  std::vector<std::vector<model::SimilarityScores>> s(n, std::vector<model::SimilarityScores>(n));
+  std::vector<std::vector<analysis::SimilarityScores>> s(
+      n, std::vector<analysis::SimilarityScores>(n));
   for (size_t i = 0; i < n; ++i)
-    for (size_t j = i; j < n; ++j) s[i][j] = s[j][i] = model::similarity(sig[i], sig[j]);
+    for (size_t j = i; j < n; ++j) s[i][j] = s[j][i] = analysis::similarity(sig[i], sig[j]);
   if (n == 2)
     std::printf("similarity %s %s: mean %.6f gaussian %.6f shape_index %.6f curvedness %.6f\n",
                 files[0].c_str(), files[1].c_str(), s[0][1].mean, s[0][1].gaussian,

@@ -18,10 +18,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "model/analysis_mesh.h"
-#include "model/geodesics.h"
-#include "model/mesh_io.h"
-#include "model/mpeg4_features.h"
+#include "analysis/analysis_mesh.h"
+#include "analysis/geodesics.h"
+#include "analysis/mpeg4_features.h"
+#include "mesh/mesh_io.h"
 #include "sim/head.h"
 #include "sim/scan.h"
 
@@ -40,10 +40,10 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-model::TriMesh sim_mesh(int seed, int triangles) {
+mesh::TriMesh sim_mesh(int seed, int triangles) {
   sim::HeadOptions o;
   o.target_triangles = triangles;
-  return model::analysis_mesh(sim::make_head(sim::head_params(seed), o).mesh, "bench").mesh;
+  return analysis::analysis_mesh(sim::make_head(sim::head_params(seed), o).mesh, "bench").mesh;
 }
 
 // Wall and CPU time (all threads) of `reps` runs of f: min and median of each.
@@ -65,18 +65,18 @@ void time_into(nlohmann::json& row, const std::string& name, int reps, F f) {
   row[name + "_cpu_ms_min"] = cpu[0];
 }
 
-nlohmann::json timing_row(const model::TriMesh& m, int reps) {
+nlohmann::json timing_row(const mesh::TriMesh& m, int reps) {
   const int n = int(m.vertices.size());
   nlohmann::json row{{"vertices", n}, {"triangles", m.triangles.size()}, {"repetitions", reps}};
-  time_into(row, "neighbour", reps, [&] { model::vertex_neighbors(m); });
-  if (n <= 12000) time_into(row, "euclidean_matrix", reps, [&] { model::euclidean_matrix(m); });
+  time_into(row, "neighbour", reps, [&] { analysis::vertex_neighbors(m); });
+  if (n <= 12000) time_into(row, "euclidean_matrix", reps, [&] { analysis::euclidean_matrix(m); });
   if (n <= 2000) {  // wall time, and CPU time of all threads (the machine may be shared)
     time_into(row, "geodesic_matrix_fmm", reps,
-              [&] { model::geodesic_matrix(m, model::GeodesicMethod::kFastMarching); });
+              [&] { analysis::geodesic_matrix(m, analysis::GeodesicMethod::kFastMarching); });
     time_into(row, "geodesic_matrix_edge_graph", reps,
-              [&] { model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph); });
+              [&] { analysis::geodesic_matrix(m, analysis::GeodesicMethod::kEdgeGraph); });
   } else {  // n single-source runs, timed on 20 and scaled (memory 4 n^2 bytes)
-    model::GeodesicSolver solver(m);
+    analysis::GeodesicSolver solver(m);
     std::vector<float> row_values(n);
     time_into(row, "geodesic_single_source_fmm", reps, [&] {
       for (int s = 0; s < 20; ++s) solver.distances_into(s * (n / 20), row_values.data());
@@ -87,14 +87,14 @@ nlohmann::json timing_row(const model::TriMesh& m, int reps) {
     row["geodesic_matrix_fmm_cpu_ms_extrapolated"] =
         row["geodesic_single_source_fmm_cpu_ms"].get<double>() * n;
     time_into(row, "geodesic_single_source_dijkstra", reps, [&] {
-      for (int s = 0; s < 20; ++s) model::edge_graph_distances(m, {s * (n / 20)});
+      for (int s = 0; s < 20; ++s) analysis::edge_graph_distances(m, {s * (n / 20)});
     });
     for (const char* k : {"_ms", "_ms_min", "_cpu_ms", "_cpu_ms_min"})
       row[std::string("geodesic_single_source_dijkstra") + k] =
           row[std::string("geodesic_single_source_dijkstra") + k].get<double>() / 20.0;
     if (n <= 12000)  // the whole edge-graph matrix (10k vertices: 400 MB), once
       time_into(row, "geodesic_matrix_edge_graph", 1,
-                [&] { model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph); });
+                [&] { analysis::geodesic_matrix(m, analysis::GeodesicMethod::kEdgeGraph); });
   }
   return row;
 }
@@ -119,7 +119,7 @@ Accuracy compare(const std::vector<double>& d, const std::vector<double>& ref) {
 
 nlohmann::json sphere_accuracy(int levels) {
   // Icosphere by subdivision (as tests/model/analysis_test_meshes.h), radius 100.
-  model::TriMesh m;
+  mesh::TriMesh m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
                 {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
@@ -145,14 +145,14 @@ nlohmann::json sphere_accuracy(int levels) {
   }
   for (auto& v : m.vertices) v = v.normalized() * 100.0;
   auto t0 = Clock::now();
-  const auto d = model::geodesic_distances(m, {0});
+  const auto d = analysis::geodesic_distances(m, {0});
   const double fmm_ms = ms_since(t0);
   std::vector<double> truth(d.size());
   for (size_t i = 0; i < d.size(); ++i)
     truth[i] = 100.0 * std::acos(std::clamp(
                            m.vertices[0].normalized().dot(m.vertices[i].normalized()), -1.0, 1.0));
   const Accuracy a = compare(d, truth);
-  const Accuracy e = compare(model::edge_graph_distances(m, {0}), truth);
+  const Accuracy e = compare(analysis::edge_graph_distances(m, {0}), truth);
   return {{"vertices", m.vertices.size()},         {"fmm_ms", fmm_ms},
           {"fmm_mean_rel_error", a.mean_rel},      {"fmm_max_rel_error", a.max_rel},
           {"dijkstra_mean_rel_error", e.mean_rel}, {"dijkstra_max_rel_error", e.max_rel}};
@@ -168,8 +168,8 @@ using SP = CGAL::Surface_mesh_shortest_path<CGAL::Surface_mesh_shortest_path_tra
 struct CgalMesh {
   SM sm;
   std::vector<SM::Vertex_index> vh;
-  model::TriMesh accepted;
-  explicit CgalMesh(const model::TriMesh& m) {
+  mesh::TriMesh accepted;
+  explicit CgalMesh(const mesh::TriMesh& m) {
     for (const auto& v : m.vertices) vh.push_back(sm.add_vertex(K::Point_3(v.x(), v.y(), v.z())));
     accepted.vertices = m.vertices;
     for (const auto& t : m.triangles)
@@ -181,9 +181,9 @@ struct CgalMesh {
 
 nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   nlohmann::json j{{"mesh", name}};
-  model::TriMesh m;
+  mesh::TriMesh m;
   try {
-    m = model::analysis_mesh(model::read_mesh(path), name).mesh;
+    m = analysis::analysis_mesh(mesh::read_mesh(path), name).mesh;
   } catch (const std::exception& e) {
     j["skipped"] = e.what();
     return j;
@@ -209,11 +209,11 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
   double fmm_ms = std::numeric_limits<double>::infinity();
   for (int r = 0; r < 5; ++r) {  // min of 5 (the machine may be shared); CGAL runs once
     t0 = Clock::now();
-    fmm = model::geodesic_distances(same, {src});
+    fmm = analysis::geodesic_distances(same, {src});
     fmm_ms = std::min(fmm_ms, ms_since(t0));
   }
   const Accuracy a = compare(fmm, exact);
-  const Accuracy e = compare(model::edge_graph_distances(same, {src}), exact);
+  const Accuracy e = compare(analysis::edge_graph_distances(same, {src}), exact);
   j.update({{"vertices", m.vertices.size()},
             {"cgal_exact_ms", cgal_ms},
             {"fmm_ms_min_of_5", fmm_ms},
@@ -224,7 +224,7 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
             {"dijkstra_max_rel_error", e.max_rel}});
 #else
   auto t0 = Clock::now();
-  model::geodesic_distances(m, {src});
+  analysis::geodesic_distances(m, {src});
   j.update({{"vertices", m.vertices.size()}, {"fmm_ms", ms_since(t0)}, {"cgal", "not built"}});
 #endif
   return j;
@@ -234,7 +234,7 @@ nlohmann::json scan_accuracy(const std::string& name, const std::string& path) {
 // `sources` vertices: the row from the source, the column towards it (every other vertex's run),
 // the mean and minimum of the two (whether symmetrising helps), and geodesic_matrix's entries.
 nlohmann::json matrix_accuracy(int target_vertices, int sources) {
-  const model::TriMesh m = sim_mesh(0, 2 * target_vertices);
+  const mesh::TriMesh m = sim_mesh(0, 2 * target_vertices);
   const int n = int(m.vertices.size());
   nlohmann::json j{{"vertices", n}, {"sources", sources}};
 #ifdef ORTHOFACE_HAVE_CGAL
@@ -244,11 +244,11 @@ nlohmann::json matrix_accuracy(int target_vertices, int sources) {
     j["skipped"] = "CGAL rejected a face";
     return j;
   }
-  model::GeodesicSolver solver(m);  // the unsymmetrised runs, one row per source vertex
-  model::DistanceMatrix g{n, std::vector<float>(size_t(n) * n)};
+  analysis::GeodesicSolver solver(m);  // the unsymmetrised runs, one row per source vertex
+  analysis::DistanceMatrix g{n, std::vector<float>(size_t(n) * n)};
   for (int s = 0; s < n; ++s) solver.distances_into(s, g.values.data() + size_t(s) * n);
-  const auto product = model::geodesic_matrix(m, model::GeodesicMethod::kFastMarching);
-  const auto e = model::geodesic_matrix(m, model::GeodesicMethod::kEdgeGraph);
+  const auto product = analysis::geodesic_matrix(m, analysis::GeodesicMethod::kFastMarching);
+  const auto e = analysis::geodesic_matrix(m, analysis::GeodesicMethod::kEdgeGraph);
   std::map<std::string, std::vector<double>> d;
   std::vector<double> exact;
   for (int k = 0; k < sources; ++k) {
@@ -296,7 +296,7 @@ const std::map<std::string, std::vector<std::string>> kTruthOf = {
 
 // Distance (mesh units) of each found point with a known landmark, keyed by point name.
 std::map<std::string, double> truth_errors(
-    const model::TriMesh& mesh, const model::FeatureReport& r,
+    const mesh::TriMesh& mesh, const analysis::FeatureReport& r,
     const std::map<std::string, Eigen::Vector3d>& landmarks) {
   std::vector<std::pair<std::string, Eigen::Vector3d>> found;
   for (const auto& p : r.points) found.push_back({p.name, p.position});
@@ -319,7 +319,7 @@ std::map<std::string, double> truth_errors(
 
 nlohmann::json features_vs_truth(const sim::Head& h, double& seconds) {
   const auto t0 = Clock::now();
-  const model::FeatureReport r = model::mpeg4_features(h.mesh);
+  const analysis::FeatureReport r = analysis::mpeg4_features(h.mesh);
   seconds = ms_since(t0) / 1000.0;
   nlohmann::json j{{"mesh", h.name}, {"seconds", seconds}, {"points_found", r.points.size()}};
   j["error"] = truth_errors(h.mesh, r, h.landmarks);
@@ -378,7 +378,7 @@ nlohmann::json scan_features(const std::string& data) {
   }
   try {
     sim::Head h;
-    h.mesh = model::read_mesh(data + "/nefertiti_scan/nefertiti-lowres.obj");
+    h.mesh = mesh::read_mesh(data + "/nefertiti_scan/nefertiti-lowres.obj");
     h.name = "Nefertiti scan";
     for (const auto& [name, v] : kNefertitiPicks) h.landmarks[name] = h.mesh.vertices.at(v);
     double t = 0;

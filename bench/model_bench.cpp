@@ -63,7 +63,7 @@ Subject make_subject(int seed, render::Renderer& renderer) {
   return s;
 }
 
-double rel(const model::TriMesh& m, const Subject& s) {
+double rel(const mesh::TriMesh& m, const Subject& s) {
   return model::reconstruction_error(m, s.head.mesh, s.region).relative;
 }
 
@@ -115,7 +115,7 @@ void draw_plot(cv::Mat& img, cv::Rect area, const std::vector<double>& xs,
 constexpr double kGenStepMm = 1.0;
 constexpr int kGenHalfRays = 46;  // rays from 0 to 90 degrees, inclusive
 
-std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> slice_segments(const model::TriMesh& m,
+std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> slice_segments(const mesh::TriMesh& m,
                                                                         double y) {
   std::vector<std::pair<Eigen::Vector2d, Eigen::Vector2d>> segs;
   for (const auto& f : m.triangles) {

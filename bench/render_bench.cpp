@@ -27,18 +27,18 @@ capture::CameraModel view_camera() {
   return capture::camera_at(front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
 }
 
-model::TriMesh ellipsoid(int triangles) {  // 2 * segments * (rings - 1) triangles
+mesh::TriMesh ellipsoid(int triangles) {  // 2 * segments * (rings - 1) triangles
   const int rings = triangles >= 16000 ? 64 : 32;
   return render::uv_ellipsoid({0, 0, 0}, {76, 115, 98}, rings, 2 * rings, 1024);
 }
 
-model::TriMesh sim_head(int triangles) {
+mesh::TriMesh sim_head(int triangles) {
   sim::HeadOptions o;
   o.target_triangles = triangles;
   return sim::make_head(sim::head_params(3), o).mesh;
 }
 
-void run(benchmark::State& state, const model::TriMesh& mesh, bool cached,
+void run(benchmark::State& state, const mesh::TriMesh& mesh, bool cached,
          const render::RenderOptions& options = {}) {
   render::Renderer renderer;
   const capture::CameraModel cam = view_camera();
@@ -76,12 +76,12 @@ void BM_TexturedSimHeadImageOnly(benchmark::State& state) {
 // triangle (skip_unoccluded off: the same image), 6 = pick with floating textures (the two
 // photos aligned by optical flow first); the mesh and photos are uploaded once.
 void BM_NewViewSimHead(benchmark::State& state) {
-  const model::TriMesh head = sim_head(4000);
+  const mesh::TriMesh head = sim_head(4000);
   const capture::RigCalibration rig = capture::ideal_rig(640, 480, 1.4);
   render::Renderer renderer;
   const cv::Mat front = renderer.render(head, rig.front).image;
   const cv::Mat side = renderer.render(head, rig.side).image;
-  model::TriMesh bare = head;
+  mesh::TriMesh bare = head;
   bare.uvs.clear();
   bare.texture = cv::Mat();
   render::ViewSynthesizer synth(bare, rig, front, side);
@@ -109,13 +109,13 @@ struct LivePhotos {
   bool odd = false;
 
   LivePhotos() {
-    const model::TriMesh head = sim_head(4000);
+    const mesh::TriMesh head = sim_head(4000);
     for (int i = 0; i < 2; ++i) {
       const capture::CameraModel& cam = i == 0 ? rig.front : rig.side;
       pair[0][i] = render::render_once(head, cam).image;
       pair[1][i] = pair[0][i] * 0.9;
     }
-    model::TriMesh bare = head;
+    mesh::TriMesh bare = head;
     bare.uvs.clear();
     bare.texture = cv::Mat();
     synth = std::make_unique<render::ViewSynthesizer>(bare, rig, pair[0][0], pair[0][1]);
@@ -160,7 +160,7 @@ out vec4 color;
 void main() { color = vec4(0.8, 0.7, 0.6, 1.0); })";
 
 void BM_PlainLlvmpipeReference(benchmark::State& state) {
-  const model::TriMesh mesh = ellipsoid(int(state.range(0)));
+  const mesh::TriMesh mesh = ellipsoid(int(state.range(0)));
   const capture::CameraModel cam = view_camera();
   render::gl::Context context;
   const GLuint prog = render::gl::program(kPlainVs, kPlainFs, "plain");

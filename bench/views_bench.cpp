@@ -68,16 +68,16 @@ const char* const kRegionNames[] = {"far forehead",    "far brow..nose tip", "fa
                                     "far mouth..chin", "under the chin",     "near side"};
 constexpr int kNumRegions = 6;
 
-model::TriMesh bare(const model::TriMesh& m) {
-  model::TriMesh b;
+mesh::TriMesh bare(const mesh::TriMesh& m) {
+  mesh::TriMesh b;
   b.vertices = m.vertices;
   b.triangles = m.triangles;
   return b;
 }
 
 // The four meshes of one reconstruction (index as kMeshNames).
-std::array<model::TriMesh, kNumMeshes> meshes(const model::TriMesh& truth,
-                                              const app::Reconstruction& r) {
+std::array<mesh::TriMesh, kNumMeshes> meshes(const mesh::TriMesh& truth,
+                                             const app::Reconstruction& r) {
   static const model::BaseMesh base = model::base_mesh();
   const model::StereoData data = model::stereo_match(r.observation, r.rig);  // as the pipeline
   return {bare(truth), bare(r.mesh), bare(model::procrustes_fit(base, data)), bare(base.mesh)};
@@ -116,7 +116,7 @@ cv::Mat abs_error_image(const cv::Mat& truth, const cv::Mat& view, const cv::Mat
 // so each pixel of a view tells which surface point it shows. Unlit (render/renderer.h).
 render::RenderResult position_view(const sim::Head& head, const capture::CameraModel& camera,
                                    render::Renderer& renderer) {
-  model::TriMesh m;
+  mesh::TriMesh m;
   m.vertices = head.mesh.vertices;
   m.triangles = head.mesh.triangles;
   for (const auto& v : m.vertices)

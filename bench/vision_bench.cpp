@@ -24,12 +24,12 @@
 #include "sim/rig.h"
 #include "tests/vision/sim_eval.h"
 #include "vision/edges.h"
+#include "vision/foreground.h"
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/image_prep.h"
 #include "vision/observe.h"
 #include "vision/overlay.h"
-#include "vision/segment.h"
 #include "vision/side_profile.h"
 
 namespace ov = orthoface::vision;

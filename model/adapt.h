@@ -6,9 +6,9 @@
 
 #include <Eigen/Core>
 
+#include "mesh/tri_mesh.h"
 #include "model/base_mesh.h"
 #include "model/stereo.h"
-#include "model/tri_mesh.h"
 
 namespace orthoface::model {
 
@@ -72,7 +72,7 @@ std::vector<Eigen::Vector3d> nnwa_displacements(const std::vector<Eigen::Vector3
 double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x);
 
 struct AdaptResult {
-  TriMesh mesh;                                      // adapted base mesh (base uvs kept)
+  mesh::TriMesh mesh;                                // adapted base mesh (base uvs kept)
   std::map<std::string, Eigen::Vector3d> landmarks;  // named features after adaptation
   LandmarkTargets targets;                           // what the data fixed
   Alignment alignment;
@@ -86,10 +86,10 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
 
 // Baseline (seed 002 §3.4): the base mesh moved by the similarity (rotation, uniform scale,
 // translation) that best maps its landmark vertices onto the same targets adapt() uses.
-TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data,
-                       const AdaptOptions& options = {});
+mesh::TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data,
+                             const AdaptOptions& options = {});
 
 // Number of triangles whose normal turned by more than 90° from `reference` (same topology).
-int count_folds(const TriMesh& mesh, const TriMesh& reference);
+int count_folds(const mesh::TriMesh& mesh, const mesh::TriMesh& reference);
 
 }  // namespace orthoface::model

@@ -24,7 +24,7 @@ struct AlignedTargets {
 AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
                                 const AdaptOptions& options, std::vector<std::string>* warnings);
 
-std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh);
+std::vector<std::vector<int>> vertex_adjacency(const mesh::TriMesh& mesh);
 
 // Aligned positions with the targets set and the others moved by NNWA (seed 002 eq. 3.9),
 // except the vertices flagged in `skip` (one flag per vertex, or empty), which stay aligned.
@@ -51,6 +51,7 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
 // run out. Returns {folds found at the start, folds left}.
 std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
                                  const std::vector<Eigen::Vector3d>& reference,
-                                 const LandmarkTargets& targets, int max_passes, TriMesh& mesh);
+                                 const LandmarkTargets& targets, int max_passes,
+                                 mesh::TriMesh& mesh);
 
 }  // namespace orthoface::model::detail

@@ -146,14 +146,14 @@ LandmarkTargets landmark_targets(const BaseMesh& base, const std::vector<Eigen::
   return out;
 }
 
-int count_folds(const TriMesh& mesh, const TriMesh& reference) {
+int count_folds(const mesh::TriMesh& mesh, const mesh::TriMesh& reference) {
   if (mesh.vertices.size() != reference.vertices.size() ||
       mesh.triangles.size() != reference.triangles.size())
     throw std::invalid_argument("count_folds: mesh and reference differ in size");
   int folds = 0;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& f = mesh.triangles[t];
-    auto normal = [&](const TriMesh& m) {
+    auto normal = [&](const mesh::TriMesh& m) {
       return (m.vertices[f[1]] - m.vertices[f[0]]).cross(m.vertices[f[2]] - m.vertices[f[0]]);
     };
     if (normal(mesh).dot(normal(reference)) <= 0) ++folds;
@@ -210,7 +210,7 @@ AlignedTargets align_and_target(const BaseMesh& base, const StereoData& data,
   return a;
 }
 
-std::vector<std::vector<int>> vertex_adjacency(const TriMesh& mesh) {
+std::vector<std::vector<int>> vertex_adjacency(const mesh::TriMesh& mesh) {
   std::vector<std::vector<int>> adj(mesh.vertices.size());
   for (const auto& f : mesh.triangles)
     for (int i = 0; i < 3; ++i)
@@ -320,7 +320,8 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
 
 std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
                                  const std::vector<Eigen::Vector3d>& reference,
-                                 const LandmarkTargets& targets, int max_passes, TriMesh& mesh) {
+                                 const LandmarkTargets& targets, int max_passes,
+                                 mesh::TriMesh& mesh) {
   std::vector<char> is_target(mesh.vertices.size(), 0);
   for (int v : targets.vertices) is_target[v] = 1;
   auto normal = [](const std::vector<Eigen::Vector3d>& p, const std::array<int, 3>& f) {

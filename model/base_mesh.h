@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::model {
 
@@ -31,7 +31,7 @@ struct BaseMeshOptions {
 // sliced horizontally at characteristic heights (seed 004 §5). Built from the project's own
 // average head (no third-party data). Ear landmarks are not part of it.
 struct BaseMesh {
-  TriMesh mesh;                              // with uvs (u = contour angle, v = height)
+  mesh::TriMesh mesh;                        // with uvs (u = contour angle, v = height)
   std::vector<VertexGroup> groups;           // one per vertex
   std::vector<int> slice_of_vertex;          // slice index per vertex
   std::vector<std::vector<int>> slices;      // per slice, top to bottom: vertex ids from the

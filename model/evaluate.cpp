@@ -37,7 +37,7 @@ Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
 // Uniform grid over the triangles for nearest-surface queries.
 class SurfaceGrid {
  public:
-  explicit SurfaceGrid(const TriMesh& m) : mesh_(m) {
+  explicit SurfaceGrid(const mesh::TriMesh& m) : mesh_(m) {
     double mean_edge = 0;
     for (const auto& f : m.triangles) mean_edge += (m.vertices[f[1]] - m.vertices[f[0]]).norm();
     cell_ = std::max(1e-3, 2.0 * mean_edge / static_cast<double>(m.triangles.size()));
@@ -92,7 +92,7 @@ class SurfaceGrid {
     return ((static_cast<long long>(x) + 100000) * 200003LL + (y + 100000)) * 200003LL +
            (z + 100000);
   }
-  const TriMesh& mesh_;
+  const mesh::TriMesh& mesh_;
   double cell_ = 1.0;
   Eigen::Vector3i lo_ = Eigen::Vector3i::Constant(1 << 30), hi_ = -lo_;
   std::unordered_map<long long, std::vector<int>> cells_;
@@ -115,8 +115,8 @@ FaceRegion face_region(const std::map<std::string, Eigen::Vector3d>& l) {
 }
 
 std::vector<double> signed_distances(const std::vector<Eigen::Vector3d>& points,
-                                     const TriMesh& surface) {
-  check_mesh(surface, "signed_distances: surface");
+                                     const mesh::TriMesh& surface) {
+  mesh::check_mesh(surface, "signed_distances: surface");
   const SurfaceGrid grid(surface);
   std::vector<double> out;
   out.reserve(points.size());
@@ -124,11 +124,12 @@ std::vector<double> signed_distances(const std::vector<Eigen::Vector3d>& points,
   return out;
 }
 
-ErrorReport reconstruction_error(const TriMesh& rec, const TriMesh& truth, const FaceRegion& region,
+ErrorReport reconstruction_error(const mesh::TriMesh& rec, const mesh::TriMesh& truth,
+                                 const FaceRegion& region,
                                  const std::map<std::string, Eigen::Vector3d>& landmarks,
                                  const std::map<std::string, Eigen::Vector3d>& true_landmarks) {
-  check_mesh(rec, "reconstruction_error: reconstructed mesh");
-  check_mesh(truth, "reconstruction_error: true mesh");
+  mesh::check_mesh(rec, "reconstruction_error: reconstructed mesh");
+  mesh::check_mesh(truth, "reconstruction_error: true mesh");
   const SurfaceGrid grid(truth);
   static const double kBary[7][3] = {{1. / 3, 1. / 3, 1. / 3},
                                      {2. / 3, 1. / 6, 1. / 6},
@@ -171,12 +172,13 @@ ErrorReport reconstruction_error(const TriMesh& rec, const TriMesh& truth, const
   return e;
 }
 
-TriMesh error_colored(const TriMesh& mesh, const std::vector<double>& err, double range_mm) {
+mesh::TriMesh error_colored(const mesh::TriMesh& mesh, const std::vector<double>& err,
+                            double range_mm) {
   if (err.size() != mesh.vertices.size())
     throw std::invalid_argument("error_colored: " + std::to_string(err.size()) + " errors for " +
                                 std::to_string(mesh.vertices.size()) + " vertices");
   if (!(range_mm > 0)) throw std::invalid_argument("error_colored: range_mm must be > 0");
-  TriMesh out = mesh;
+  mesh::TriMesh out = mesh;
   out.colors.clear();
   for (double e : err) {
     const double t = std::clamp(std::isfinite(e) ? e / range_mm : 0.0, -1.0, 1.0);

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::model {
 
@@ -29,7 +29,7 @@ FaceRegion face_region(const std::map<std::string, Eigen::Vector3d>& landmarks);
 // Signed distance (mm) from each point to the nearest point of `surface`: positive outside
 // (on the side its outward normals point to). Throws std::invalid_argument for a bad mesh.
 std::vector<double> signed_distances(const std::vector<Eigen::Vector3d>& points,
-                                     const TriMesh& surface);
+                                     const mesh::TriMesh& surface);
 
 struct ErrorReport {
   double mean_mm = 0.0;  // area-weighted mean |distance| of the reconstructed face surface
@@ -46,7 +46,7 @@ struct ErrorReport {
 // reconstructed triangle whose centroid lies in the region is sampled at 7 barycentric points,
 // their distances to the whole true surface are averaged with the triangle areas as weights.
 // Throws std::invalid_argument for bad meshes or when no reconstructed triangle is in the region.
-ErrorReport reconstruction_error(const TriMesh& reconstructed, const TriMesh& truth,
+ErrorReport reconstruction_error(const mesh::TriMesh& reconstructed, const mesh::TriMesh& truth,
                                  const FaceRegion& region,
                                  const std::map<std::string, Eigen::Vector3d>& landmarks = {},
                                  const std::map<std::string, Eigen::Vector3d>& true_landmarks = {});
@@ -54,7 +54,7 @@ ErrorReport reconstruction_error(const TriMesh& reconstructed, const TriMesh& tr
 // Error colours (seed 002 fig. 4.2): negative (inside) blue, zero green, positive red,
 // saturating at +-range_mm. Returns a copy of `mesh` with colors set. Throws
 // std::invalid_argument when sizes differ or range_mm <= 0.
-TriMesh error_colored(const TriMesh& mesh, const std::vector<double>& signed_error_mm,
-                      double range_mm);
+mesh::TriMesh error_colored(const mesh::TriMesh& mesh, const std::vector<double>& signed_error_mm,
+                            double range_mm);
 
 }  // namespace orthoface::model

@@ -8,7 +8,8 @@
 
 namespace orthoface::model {
 
-TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data, const AdaptOptions& options) {
+mesh::TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data,
+                             const AdaptOptions& options) {
   options.check();
   const LandmarkTargets t = detail::align_and_target(base, data, options, nullptr).targets;
   const int n = static_cast<int>(t.vertices.size());
@@ -21,7 +22,7 @@ TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data, const Adapt
     dst.col(i) = t.positions[i];
   }
   const Eigen::Matrix4d m = Eigen::umeyama(src, dst, true);  // rotation, scale, translation
-  TriMesh out = base.mesh;
+  mesh::TriMesh out = base.mesh;
   for (auto& v : out.vertices) v = m.topLeftCorner<3, 3>() * v + m.topRightCorner<3, 1>();
   return out;
 }

@@ -233,7 +233,7 @@ void GpuMesh::release() {
   tex = ebo = vbo = vao = 0;
 }
 
-GpuMesh upload_mesh(const model::TriMesh& m, bool with_texture) {
+GpuMesh upload_mesh(const mesh::TriMesh& m, bool with_texture) {
   GpuMesh g;
   const bool textured = with_texture && !m.texture.empty() && !m.uvs.empty();
   g.mode = textured ? 2 : (!m.colors.empty() ? 1 : 0);
@@ -297,7 +297,7 @@ RenderResult read_result(int w, int h, const std::array<double, 2>& nf, bool per
   return r;
 }
 
-std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh) {
+std::vector<Eigen::Vector3d> vertex_normals(const mesh::TriMesh& mesh) {
   std::vector<Eigen::Vector3d> n(mesh.vertices.size(), Eigen::Vector3d::Zero());
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d& a = mesh.vertices[t[0]];

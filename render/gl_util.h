@@ -15,7 +15,7 @@
 #include <Eigen/Core>
 
 #include "capture/camera_model.h"
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 #include "render/renderer.h"
 
 namespace orthoface::render::gl {
@@ -61,7 +61,7 @@ struct GpuMesh {
   Eigen::Vector3d lo, hi;  // bounding box, head frame
   void release();
 };
-GpuMesh upload_mesh(const model::TriMesh& mesh, bool with_texture);
+GpuMesh upload_mesh(const mesh::TriMesh& mesh, bool with_texture);
 
 // Reads colour attachment 0 (as BGR) and the depth buffer (as z_cam mm, +inf where empty, and
 // the mask) of the bound framebuffer, w x h, drawn with near_far() planes `nf`. Without depth
@@ -105,6 +105,6 @@ cv::Mat fit_texture_limit(const cv::Mat& image);
 void linear_clamp_parameters();
 
 // Per-vertex area-weighted normals (unit; zero for isolated vertices).
-std::vector<Eigen::Vector3d> vertex_normals(const model::TriMesh& mesh);
+std::vector<Eigen::Vector3d> vertex_normals(const mesh::TriMesh& mesh);
 
 }  // namespace orthoface::render::gl

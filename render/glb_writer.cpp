@@ -24,7 +24,7 @@ void append(std::vector<uint8_t>& bin, const void* data, size_t bytes) {
 }
 
 // Unit normals welded over coincident positions, so a UV seam shades smoothly.
-std::vector<Eigen::Vector3d> welded_normals(const model::TriMesh& m) {
+std::vector<Eigen::Vector3d> welded_normals(const mesh::TriMesh& m) {
   std::map<std::array<double, 3>, Eigen::Vector3d> by_position;
   auto key = [&](int v) {
     return std::array<double, 3>{m.vertices[v].x(), m.vertices[v].y(), m.vertices[v].z()};
@@ -51,7 +51,7 @@ struct View {
   int target;  // 0 = none (image)
 };
 
-std::string gltf_json(const model::TriMesh& m, const std::vector<View>& views, size_t bin_size,
+std::string gltf_json(const mesh::TriMesh& m, const std::vector<View>& views, size_t bin_size,
                       const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
   std::ostringstream j;
   j.precision(9);
@@ -85,8 +85,8 @@ std::string gltf_json(const model::TriMesh& m, const std::vector<View>& views, s
 
 }  // namespace
 
-void write_glb(const model::TriMesh& m, const std::string& path) {
-  model::check_mesh(m, "write_glb: mesh");
+void write_glb(const mesh::TriMesh& m, const std::string& path) {
+  mesh::check_mesh(m, "write_glb: mesh");
   if (m.uvs.empty() || m.texture.empty())
     throw std::invalid_argument("write_glb: the mesh has no uvs / texture to embed");
   std::vector<float> pos, nrm, uv;

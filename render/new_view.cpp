@@ -335,13 +335,13 @@ void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
   for (int t = 0; t < 4; ++t) glUniform1i(loc(samplers[t]), t);
 }
 
-ViewSynthesizer::ViewSynthesizer(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+ViewSynthesizer::ViewSynthesizer(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                                  const cv::Mat& front, const cv::Mat& side) {
   gl::check_camera(rig.front, "new view: front camera");
   gl::check_camera(rig.side, "new view: side camera");
   as_bgr(front, rig.front, "front");
   as_bgr(side, rig.side, "side");
-  model::check_mesh(mesh, "new view: mesh");
+  mesh::check_mesh(mesh, "new view: mesh");
   impl_ = std::make_unique<Impl>();
   impl_->rig = rig;
   set_mesh(mesh);
@@ -350,8 +350,8 @@ ViewSynthesizer::ViewSynthesizer(const model::TriMesh& mesh, const capture::RigC
 
 ViewSynthesizer::~ViewSynthesizer() = default;
 
-void ViewSynthesizer::set_mesh(const model::TriMesh& mesh) {
-  model::check_mesh(mesh, "new view: mesh");
+void ViewSynthesizer::set_mesh(const mesh::TriMesh& mesh) {
+  mesh::check_mesh(mesh, "new view: mesh");
   impl_->context.make_current();
   impl_->mesh.release();
   impl_->mesh = gl::upload_mesh(mesh, false);
@@ -551,7 +551,7 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   return r;
 }
 
-SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+SynthesisResult synthesize_view(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                                 const cv::Mat& front, const cv::Mat& side,
                                 const capture::CameraModel& camera,
                                 const SynthesisOptions& options) {

@@ -8,7 +8,7 @@
 #include <opencv2/core.hpp>
 
 #include "capture/camera_model.h"
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 #include "render/renderer.h"
 
 namespace orthoface::render {
@@ -83,7 +83,7 @@ enum class ColourUpdate { Keep, Recompute };
 // (naming it) and std::runtime_error when libOSMesa cannot create a context.
 class ViewSynthesizer {
  public:
-  ViewSynthesizer(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+  ViewSynthesizer(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                   const cv::Mat& front, const cv::Mat& side);
   ~ViewSynthesizer();
   ViewSynthesizer(const ViewSynthesizer&) = delete;
@@ -109,7 +109,7 @@ class ViewSynthesizer {
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).
-  void set_mesh(const model::TriMesh& mesh);
+  void set_mesh(const mesh::TriMesh& mesh);
 
   // The view seen by `camera` (any projection / pose). Throws std::invalid_argument on a bad
   // camera size (0 or > kMaxRenderSize) or options.
@@ -125,7 +125,7 @@ class ViewSynthesizer {
 };
 
 // One-off synthesis with a temporary context.
-SynthesisResult synthesize_view(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+SynthesisResult synthesize_view(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                                 const cv::Mat& front, const cv::Mat& side,
                                 const capture::CameraModel& camera,
                                 const SynthesisOptions& options = {});

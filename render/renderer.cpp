@@ -97,7 +97,7 @@ uint64_t mix(uint64_t h, const void* data, size_t bytes) {
   return h;
 }
 
-MeshKey key_of(const model::TriMesh& m) {
+MeshKey key_of(const mesh::TriMesh& m) {
   MeshKey k;
   const void* ptrs[5] = {m.vertices.data(), m.triangles.data(), m.uvs.data(), m.colors.data(),
                          m.texture.data};
@@ -151,11 +151,11 @@ struct Renderer::Impl {
   }
 
   // The cached upload of `m`, uploading (after check_mesh) on a miss.
-  const gl::GpuMesh& mesh(const model::TriMesh& m) {
+  const gl::GpuMesh& mesh(const mesh::TriMesh& m) {
     const MeshKey key = key_of(m);
     for (auto& c : cache)
       if (c.key == key) return c.last_used = ++clock, c.mesh;
-    model::check_mesh(m, "render: mesh");
+    mesh::check_mesh(m, "render: mesh");
     if (int(cache.size()) >= kCacheSize) {
       auto oldest = cache.begin();
       for (auto it = cache.begin(); it != cache.end(); ++it)
@@ -219,7 +219,7 @@ struct Renderer::Impl {
 Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
 Renderer::~Renderer() = default;
 
-RenderResult Renderer::render(const model::TriMesh& mesh, const capture::CameraModel& camera,
+RenderResult Renderer::render(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                               const RenderOptions& options) {
   if (mesh.vertices.empty() || mesh.triangles.empty())
     throw std::invalid_argument("render: mesh is empty");
@@ -251,9 +251,9 @@ void Renderer::clear_cache() {
 
 int Renderer::cached_meshes() const { return int(impl_->cache.size()); }
 
-RenderResult render_once(const model::TriMesh& mesh, const capture::CameraModel& camera,
+RenderResult render_once(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                          const RenderOptions& options) {
-  model::check_mesh(mesh, "render: mesh");
+  mesh::check_mesh(mesh, "render: mesh");
   gl::check_camera(camera, "render: camera");
   Renderer renderer;
   return renderer.render(mesh, camera, options);

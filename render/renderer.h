@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "capture/camera_model.h"
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::render {
 
@@ -56,7 +56,7 @@ class Renderer {
   // The mesh is uploaded once and kept (up to 8 meshes, least recently used dropped) keyed by
   // its buffers' addresses, sizes and a hash of the geometry; a texture edited in place under
   // the same buffer may go unnoticed: call clear_cache() after such an edit.
-  RenderResult render(const model::TriMesh& mesh, const capture::CameraModel& camera,
+  RenderResult render(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                       const RenderOptions& options = {});
   void clear_cache();
   int cached_meshes() const;  // meshes currently uploaded
@@ -67,7 +67,7 @@ class Renderer {
 };
 
 // One-off render with a temporary context.
-RenderResult render_once(const model::TriMesh& mesh, const capture::CameraModel& camera,
+RenderResult render_once(const mesh::TriMesh& mesh, const capture::CameraModel& camera,
                          const RenderOptions& options = {});
 
 }  // namespace orthoface::render

@@ -25,8 +25,8 @@ cv::Mat procedural_texture(int n) {
 
 }  // namespace
 
-model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
-                            int segments, int texture_px) {
+mesh::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
+                           int segments, int texture_px) {
   if (rings < 2 || segments < 3)
     throw std::invalid_argument("uv_ellipsoid: need rings >= 2 and segments >= 3, got " +
                                 std::to_string(rings) + ", " + std::to_string(segments));
@@ -34,7 +34,7 @@ model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d
     throw std::invalid_argument("uv_ellipsoid: radii must be finite and > 0");
   if (texture_px < 0 || texture_px > 8192)
     throw std::invalid_argument("uv_ellipsoid: texture_px must be in 0..8192");
-  model::TriMesh m;
+  mesh::TriMesh m;
   const int cols = segments + 1;  // the seam column is duplicated for the uvs
   for (int i = 0; i <= rings; ++i) {
     const double theta = M_PI * i / rings;

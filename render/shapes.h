@@ -2,7 +2,7 @@
 
 #include <Eigen/Core>
 
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::render {
 
@@ -12,7 +12,7 @@ namespace orthoface::render {
 // +x, v = 1 at the +y pole. With texture_px > 0 it carries a procedural texture_px square
 // texture (hue bands along u, light/dark checker); else no uvs, no texture.
 // Throws std::invalid_argument for rings < 2, segments < 3, radii <= 0 or texture_px > 8192.
-model::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
-                            int segments, int texture_px = 0);
+mesh::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
+                           int segments, int texture_px = 0);
 
 }  // namespace orthoface::render

@@ -37,17 +37,17 @@ cv::Mat checked_photo(const cv::Mat& photo, const capture::CameraModel& cam,
   return bgr;
 }
 
-Prepared prepare(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+Prepared prepare(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                  const cv::Mat& front, const cv::Mat& side, const InheritOptions& o) {
   o.check();
-  model::check_mesh(mesh, "texture export: mesh");
+  mesh::check_mesh(mesh, "texture export: mesh");
   gl::check_camera(rig.front, "texture export: front camera");
   gl::check_camera(rig.side, "texture export: side camera");
   Prepared p;
   p.cams = {&rig.front, &rig.side};
   const std::array<cv::Mat, 2> raw = {checked_photo(front, rig.front, "front"),
                                       checked_photo(side, rig.side, "side")};
-  model::TriMesh bare;
+  mesh::TriMesh bare;
   bare.vertices = mesh.vertices;
   bare.triangles = mesh.triangles;
   Renderer renderer;
@@ -60,7 +60,7 @@ Prepared prepare(const model::TriMesh& mesh, const capture::RigCalibration& rig,
 }
 
 // Seed 004 §6 per triangle: the photo that sees all three vertices and that the face turns to.
-int triangle_source(const Prepared& p, const model::TriMesh& m, const std::array<int, 3>& t) {
+int triangle_source(const Prepared& p, const mesh::TriMesh& m, const std::array<int, 3>& t) {
   const Eigen::Vector3d& a = m.vertices[t[0]];
   const Eigen::Vector3d& b = m.vertices[t[1]];
   const Eigen::Vector3d& c = m.vertices[t[2]];
@@ -88,7 +88,7 @@ void InheritOptions::check() const {
     throw std::invalid_argument("texture export options: max_atlas_px must be in 64..16384");
 }
 
-InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+InheritedMesh inherit_texture(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                               const cv::Mat& front, const cv::Mat& side, const InheritOptions& o) {
   const Prepared p = prepare(mesh, rig, front, side, o);
   InheritedMesh out;
@@ -130,7 +130,7 @@ InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCali
   const Eigen::Vector2d fill_uv((x + patch / 2.0) / width, 1.0 - (patch / 2.0) / height);
   // Vertices split per source: index = 3 * vertex + (source + 1).
   std::vector<int> index(mesh.vertices.size() * 3, -1);
-  model::TriMesh& m = out.mesh;
+  mesh::TriMesh& m = out.mesh;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const int s = out.source[t];
     std::array<int, 3> tri{};
@@ -160,11 +160,11 @@ InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCali
   return out;
 }
 
-model::TriMesh inherit_vertex_colours(const model::TriMesh& mesh,
-                                      const capture::RigCalibration& rig, const cv::Mat& front,
-                                      const cv::Mat& side, const InheritOptions& o) {
+mesh::TriMesh inherit_vertex_colours(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
+                                     const cv::Mat& front, const cv::Mat& side,
+                                     const InheritOptions& o) {
   const Prepared p = prepare(mesh, rig, front, side, o);
-  model::TriMesh m;
+  mesh::TriMesh m;
   m.vertices = mesh.vertices;
   m.triangles = mesh.triangles;
   const cv::Vec3d fill(p.match.fill[0], p.match.fill[1], p.match.fill[2]);

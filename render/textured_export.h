@@ -6,7 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include "capture/camera_model.h"
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::render {
 
@@ -18,7 +18,7 @@ struct InheritOptions {
 };
 
 struct InheritedMesh {
-  model::TriMesh mesh;      // uvs into texture = the atlas
+  mesh::TriMesh mesh;       // uvs into texture = the atlas
   std::vector<int> source;  // per triangle of the input: 0 front, 1 side, -1 fill colour
 };
 
@@ -27,20 +27,20 @@ struct InheritedMesh {
 // a triangle no photo sees maps to a patch of the fill colour. The atlas holds the used regions
 // of both photos side by side; vertices are duplicated where triangles of both photos meet.
 // Throws std::invalid_argument on a bad mesh, rig or photo (as ViewSynthesizer).
-InheritedMesh inherit_texture(const model::TriMesh& mesh, const capture::RigCalibration& rig,
+InheritedMesh inherit_texture(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                               const cv::Mat& front, const cv::Mat& side,
                               const InheritOptions& options = {});
 
 // The mesh with per-vertex colours (RGB 0..1) inherited the same way per vertex (uvs and
 // texture dropped), for PLY export and colour-only viewers.
-model::TriMesh inherit_vertex_colours(const model::TriMesh& mesh,
-                                      const capture::RigCalibration& rig, const cv::Mat& front,
-                                      const cv::Mat& side, const InheritOptions& options = {});
+mesh::TriMesh inherit_vertex_colours(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
+                                     const cv::Mat& front, const cv::Mat& side,
+                                     const InheritOptions& options = {});
 
 // Binary glTF 2.0 with the texture embedded as PNG: POSITION (metres, = mm / 1000, glTF's unit;
 // head frame axes match glTF's +y up, +z front), NORMAL, TEXCOORD_0 (v flipped to glTF's top
 // origin), uint32 indices, one unlit-looking PBR material. Written via path.tmp + rename.
 // Throws std::invalid_argument if the mesh has no uvs / texture, std::runtime_error on IO errors.
-void write_glb(const model::TriMesh& textured, const std::string& path);
+void write_glb(const mesh::TriMesh& textured, const std::string& path);
 
 }  // namespace orthoface::render

@@ -44,7 +44,7 @@ cv::Mat face_mask(const Head& head, const capture::CameraModel& camera,
                   render::Renderer& renderer) {
   const std::vector<bool> in = face_vertices(head);
   // The head drawn in two flat colours: white face, black rest; unlit, no texture.
-  model::TriMesh m;
+  mesh::TriMesh m;
   m.vertices = head.mesh.vertices;
   m.triangles = head.mesh.triangles;
   m.colors.resize(in.size());

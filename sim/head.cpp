@@ -116,7 +116,7 @@ std::optional<SilhouetteExtremes> silhouette_extremes(const Head& head, double y
   return silhouette_extremes(head.mesh, y_mm);
 }
 
-std::optional<SilhouetteExtremes> silhouette_extremes(const model::TriMesh& mesh, double y_mm) {
+std::optional<SilhouetteExtremes> silhouette_extremes(const mesh::TriMesh& mesh, double y_mm) {
   if (!std::isfinite(y_mm)) throw std::invalid_argument("silhouette_extremes: y is not finite");
   const auto& v = mesh.vertices;
   SilhouetteExtremes e;

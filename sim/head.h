@@ -6,14 +6,14 @@
 
 #include <Eigen/Core>
 
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::sim {
 
 // A head with known ground truth: textured, closed, manifold mesh in the head frame (mm,
 // DESIGN.md) and 3D landmarks named as in vision/landmarks.h.
 struct Head {
-  model::TriMesh mesh;
+  mesh::TriMesh mesh;
   std::map<std::string, Eigen::Vector3d> landmarks;
   std::string name;               // "sim seed N", "Lee Perry-Smith scan", ...
   bool landmarks_picked = false;  // true: picked on a scan by hand / heuristics (a few mm off)
@@ -81,6 +81,6 @@ struct SilhouetteExtremes {
 };
 std::optional<SilhouetteExtremes> silhouette_extremes(const Head& head, double y_mm);
 // The same for any mesh (in its own units). Throws std::invalid_argument if y is not finite.
-std::optional<SilhouetteExtremes> silhouette_extremes(const model::TriMesh& mesh, double y);
+std::optional<SilhouetteExtremes> silhouette_extremes(const mesh::TriMesh& mesh, double y);
 
 }  // namespace orthoface::sim

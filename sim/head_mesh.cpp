@@ -137,10 +137,10 @@ Grid make_grid(const HeadOptions& o, const HeadParametrization& param,
 // of column 0). Vertex 0 is the crown; the cap ring and the bottom pole come last.
 int vid(const Grid& g, int i, int j) { return 1 + i * (g.segments + 1) + j; }
 
-model::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param, const Grid& g) {
+mesh::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param, const Grid& g) {
   const int n = g.segments, rings = static_cast<int>(g.ring_t.size());
   const bool mirror = s.params().asymmetry == 0;
-  model::TriMesh m;
+  mesh::TriMesh m;
   const auto& a = s.anchors();
   m.vertices.push_back({0, a.y_top, 0});
   m.uvs.push_back({0.5, 1.0});
@@ -187,7 +187,7 @@ model::TriMesh grid_mesh(const HeadSurface& s, const HeadParametrization& param,
 
 // The mesh point with parameters (u, t): barycentric inside the grid triangle holding (u, t),
 // so it lies on the mesh exactly where the texture shows texel (u, t).
-Eigen::Vector3d mesh_point(const Grid& g, const model::TriMesh& m, double u, double t) {
+Eigen::Vector3d mesh_point(const Grid& g, const mesh::TriMesh& m, double u, double t) {
   const int n = g.segments;
   const int j = std::clamp(static_cast<int>(u * n), 0, n - 1);
   const double fu = u * n - j;
@@ -226,7 +226,7 @@ Head make_head(const HeadParams& params, const HeadOptions& options) {
   head.mesh.texture = detail::head_texture(surface, param, options.texture_size);
   for (const auto& [name, ut] : lp.ut)
     head.landmarks[name] = mesh_point(grid, head.mesh, ut.x(), ut.y());
-  model::check_mesh(head.mesh, "make_head");
+  mesh::check_mesh(head.mesh, "make_head");
   return head;
 }
 

@@ -70,7 +70,7 @@ render::RenderOptions render_options(const RigOptions& o, const cv::Scalar& back
 // kSelfHitMm from p (Moller-Trumbore). An exact ray cast rather than the rendered depth map:
 // at silhouette points (nose tip in the side view, cheeks in the front view) the pixel's ray
 // grazes the surface, so the depth map reads a nearer surface than the landmark.
-bool occluded(const model::TriMesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& dir,
+bool occluded(const mesh::TriMesh& mesh, const Eigen::Vector3d& p, const Eigen::Vector3d& dir,
               double t_max) {
   for (const auto& tri : mesh.triangles) {
     const Eigen::Vector3d& a = mesh.vertices[tri[0]];
@@ -91,7 +91,7 @@ bool occluded(const model::TriMesh& mesh, const Eigen::Vector3d& p, const Eigen:
 }
 
 // Visible when the landmark projects inside the image and nothing lies between it and the camera.
-bool visible(const model::TriMesh& mesh, const capture::CameraModel& cam, const Eigen::Vector3d& p,
+bool visible(const mesh::TriMesh& mesh, const capture::CameraModel& cam, const Eigen::Vector3d& p,
              const Eigen::Vector2d& px) {
   if (!px.allFinite() || px.x() < 0 || px.y() < 0 || px.x() >= cam.width || px.y() >= cam.height)
     return false;
@@ -224,7 +224,7 @@ cv::Mat degrade(const cv::Mat& image, const RigOptions& options, int stream) {
 
 Capture simulate_capture(const Head& head, const RigOptions& options, render::Renderer& renderer) {
   options.check();
-  model::check_mesh(head.mesh, "simulate_capture: head '" + head.name + "'");
+  mesh::check_mesh(head.mesh, "simulate_capture: head '" + head.name + "'");
   Capture cap;
   cap.nominal_rig = nominal_rig(options);
   cap.true_rig = true_rig(options);

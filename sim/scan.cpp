@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 
 namespace orthoface::sim {
 
@@ -17,7 +17,7 @@ namespace {
 constexpr double kTopToTragusMm = 125;  // vertex to the ear canal level, adult average
 
 // Widest section (x extent) for heights in [y_lo, y_hi].
-double max_width(const model::TriMesh& m, double y_lo, double y_hi) {
+double max_width(const mesh::TriMesh& m, double y_lo, double y_hi) {
   double w = 0;
   for (int k = 0; k <= 40; ++k) {
     const auto e = silhouette_extremes(m, y_lo + (y_hi - y_lo) * k / 40.0);
@@ -27,7 +27,7 @@ double max_width(const model::TriMesh& m, double y_lo, double y_hi) {
 }
 
 // Front-most point of the x = 0 section per 0.25 mm height bin: (y, z), descending y.
-std::vector<Eigen::Vector2d> midline_profile(const model::TriMesh& m) {
+std::vector<Eigen::Vector2d> midline_profile(const mesh::TriMesh& m) {
   double y_lo = std::numeric_limits<double>::infinity(), y_hi = -y_lo;
   for (const auto& v : m.vertices) {
     y_lo = std::min(y_lo, v.y());
@@ -98,7 +98,7 @@ size_t next_peak(const Profile& p, size_t from, double y_hi, double y_lo, double
 Eigen::Vector3d on_midline(const Eigen::Vector2d& yz) { return {0, yz.x(), yz.y()}; }
 
 // Widest point at height y on side `dir` (+1: +x) among section points with z >= z_min.
-Eigen::Vector3d widest_point(const model::TriMesh& m, double y, double z_min, double dir) {
+Eigen::Vector3d widest_point(const mesh::TriMesh& m, double y, double z_min, double dir) {
   Eigen::Vector3d best_p(0, y, z_min);
   double best_x = -std::numeric_limits<double>::infinity();
   for (const auto& t : m.triangles)
@@ -116,7 +116,7 @@ Eigen::Vector3d widest_point(const model::TriMesh& m, double y, double z_min, do
 }
 
 // The front-most surface point at (x, y) (a ray along -z), or nullopt.
-std::optional<Eigen::Vector3d> front_point(const model::TriMesh& m, double x, double y) {
+std::optional<Eigen::Vector3d> front_point(const mesh::TriMesh& m, double x, double y) {
   std::optional<Eigen::Vector3d> hit;
   for (const auto& t : m.triangles) {
     const Eigen::Vector3d &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
@@ -155,7 +155,7 @@ void ScanOptions::check() const {
     throw std::invalid_argument("ScanOptions: head_width_mm must be in [80, 250]");
 }
 
-std::map<std::string, Eigen::Vector3d> scan_profile_landmarks(const model::TriMesh& mesh) {
+std::map<std::string, Eigen::Vector3d> scan_profile_landmarks(const mesh::TriMesh& mesh) {
   const Profile p = midline_profile(mesh);
   if (p.size() < 100)
     throw std::runtime_error("scan_profile_landmarks: the mesh does not cross x = 0");
@@ -186,7 +186,7 @@ std::map<std::string, Eigen::Vector3d> scan_profile_landmarks(const model::TriMe
           {"chin_bottom", on_midline(p[cb])}, {"forehead_top", on_midline(p[fh])}};
 }
 
-std::optional<Eigen::Vector3d> point_at_uv(const model::TriMesh& m, const Eigen::Vector2d& uv) {
+std::optional<Eigen::Vector3d> point_at_uv(const mesh::TriMesh& m, const Eigen::Vector2d& uv) {
   if (m.uvs.size() != m.vertices.size() || m.uvs.empty())
     throw std::invalid_argument("point_at_uv: the mesh has no texture coordinates");
   for (const auto& t : m.triangles) {
@@ -204,11 +204,11 @@ std::optional<Eigen::Vector3d> point_at_uv(const model::TriMesh& m, const Eigen:
 
 Head load_scan(const std::string& path, const ScanOptions& options) {
   options.check();
-  model::MeshReadOptions ro;
+  mesh::MeshReadOptions ro;
   ro.texture_path = options.texture_path;
   ro.gltf_uv_bottom_origin = options.gltf_uv_bottom_origin;
   Head head;
-  head.mesh = model::read_mesh(path, ro);
+  head.mesh = mesh::read_mesh(path, ro);
   head.name = std::filesystem::path(path).stem().string() + " scan";
   head.landmarks_picked = true;
   auto& v = head.mesh.vertices;

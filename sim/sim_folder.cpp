@@ -10,7 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "sim/truth_json.h"
 
 namespace orthoface::sim {
@@ -61,15 +61,15 @@ class Staging {
   std::vector<std::string> names_;
 };
 
-// Stages truth.obj (+ truth.mtl, truth.png) written by model::write_mesh into a scratch folder.
-void stage_mesh(Staging& st, const fs::path& dir, const model::TriMesh& mesh) {
+// Stages truth.obj (+ truth.mtl, truth.png) written by mesh::write_mesh into a scratch folder.
+void stage_mesh(Staging& st, const fs::path& dir, const mesh::TriMesh& mesh) {
   const fs::path scratch = dir / ".truth_mesh.tmp";
   std::error_code ec;
   fs::remove_all(scratch, ec);
   if (!fs::create_directory(scratch, ec))
     throw std::runtime_error("cannot write " + (dir / "truth.obj").string() + ": " + ec.message());
   try {
-    model::write_mesh(mesh, (scratch / "truth.obj").string());
+    mesh::write_mesh(mesh, (scratch / "truth.obj").string());
     for (const auto& e : fs::directory_iterator(scratch))
       fs::rename(e.path(), st.add(e.path().filename().string()));
   } catch (...) {

@@ -11,7 +11,7 @@ namespace orthoface::sim {
 //   front.png side.png            the photos (8-bit BGR)
 //   front_mask.png side_mask.png  255 where the head covers the pixel
 //   background.png background_side.png   the empty scene seen by the front / side camera
-//   truth.obj truth.mtl truth.png the true mesh (model::write_mesh; head frame, mm)
+//   truth.obj truth.mtl truth.png the true mesh (mesh::write_mesh; head frame, mm)
 //   landmarks.json                the truth (schema in sim/truth_json.h)
 //   rig.yaml                      the NOMINAL rig (capture::write_rig; `reconstruct --rig`)
 // Every file goes to name.tmp first; only when all are written are they renamed, so a failure

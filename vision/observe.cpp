@@ -11,6 +11,7 @@
 
 #include "vision/contour_chain.h"
 #include "vision/feature_filters.h"
+#include "vision/foreground.h"
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/haar_init.h"
@@ -18,7 +19,6 @@
 #include "vision/landmarks.h"
 #include "vision/observe_front.h"
 #include "vision/registration.h"
-#include "vision/segment.h"
 #include "vision/side_profile.h"
 
 namespace orthoface::vision {

@@ -10,11 +10,11 @@
 
 #include "vision/contour_chain.h"
 #include "vision/edges.h"
+#include "vision/foreground.h"
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/haar_init.h"
 #include "vision/landmarks.h"
-#include "vision/segment.h"
 
 namespace orthoface::vision {
 

@@ -9,7 +9,7 @@
 #include "vision/contour_chain.h"
 #include "vision/curve_features.h"
 #include "vision/edges.h"
-#include "vision/segment.h"
+#include "vision/foreground.h"
 
 namespace orthoface::vision {
 

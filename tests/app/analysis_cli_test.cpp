@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "sim/head.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
@@ -61,7 +61,7 @@ TEST(AnalysisCli, SegmentRejectsUnknownPointNames) {
   const fs::path w = testing::temp_dir("analysis_cli_segment");
   sim::HeadOptions o;
   o.target_triangles = 2000;
-  model::write_mesh(sim::make_head(sim::head_params(0), o).mesh, (w / "head.ply").string());
+  mesh::write_mesh(sim::make_head(sim::head_params(0), o).mesh, (w / "head.ply").string());
   std::ofstream(w / "fp.json") << R"({"9.3": [0, -20, 110], "nose_tipp": [0, 0, 90]})";
   expect_clean_error(orthoface("segment head.ply --points fp.json -o seg", w), "nose_tipp");
   std::ofstream(w / "good.json")
@@ -78,8 +78,8 @@ TEST(AnalysisCli, SimilarityNeedsTwoMeshesAndScoresAPair) {
   expect_clean_error(orthoface("similarity only.obj", w), "two meshes");
   sim::HeadOptions o;
   o.target_triangles = 2000;
-  model::write_mesh(sim::make_head(sim::head_params(1), o).mesh, (w / "a.ply").string());
-  model::write_mesh(sim::make_head(sim::head_params(2), o).mesh, (w / "b.ply").string());
+  mesh::write_mesh(sim::make_head(sim::head_params(1), o).mesh, (w / "a.ply").string());
+  mesh::write_mesh(sim::make_head(sim::head_params(2), o).mesh, (w / "b.ply").string());
   const Result r = orthoface("similarity a.ply b.ply", w);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("shape_index"), std::string::npos);
@@ -97,8 +97,8 @@ TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   sim::HeadOptions o;
   o.target_triangles = 2000;
   for (int s = 0; s < 4; ++s)
-    model::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
-                      (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                     (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
   const Result one = run("'" + batch.string() + "'", "similarity meshes -o one", w);
   ASSERT_EQ(one.code, 0) << one.err;
   if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";

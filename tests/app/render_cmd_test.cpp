@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "render/image_metrics.h"
 #include "render/renderer.h"
 #include "render/shapes.h"
@@ -33,22 +33,22 @@ int run(const std::string& args, const fs::path& work) {
 
 // A reconstruction folder of a textured ellipsoid seen by the ideal rig; returns the textured
 // mesh (the truth) and fills `rig`.
-model::TriMesh make_folder(const fs::path& dir, capture::RigCalibration& rig) {
+mesh::TriMesh make_folder(const fs::path& dir, capture::RigCalibration& rig) {
   fs::create_directories(dir);
-  model::TriMesh m = render::uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 32, 64, 512);
+  mesh::TriMesh m = render::uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 32, 64, 512);
   rig = capture::ideal_rig(320, 240, 1.0);
   render::Renderer r;
   cv::imwrite((dir / "front.png").string(), r.render(m, rig.front).image);
   cv::imwrite((dir / "side.png").string(), r.render(m, rig.side).image);
   capture::write_rig(rig, (dir / "rig.yaml").string());
-  model::write_mesh(m, (dir / "head.obj").string());
+  mesh::write_mesh(m, (dir / "head.obj").string());
   return m;
 }
 
 TEST(RenderCommand, RendersANewViewCloseToTheTruth) {
   const fs::path work = testing::temp_dir("app_render");
   capture::RigCalibration rig;
-  const model::TriMesh truth_mesh = make_folder(work / "rec", rig);
+  const mesh::TriMesh truth_mesh = make_folder(work / "rec", rig);
   ASSERT_EQ(run("render rec --yaw 40 --blend weighted -o view.png", work), 0)
       << slurp(work / "err.txt");
   const cv::Mat view = cv::imread((work / "view.png").string());
@@ -79,7 +79,7 @@ TEST(RenderCommand, TurntableAndExports) {
     EXPECT_TRUE(fs::exists(work / f)) << f;
   ASSERT_EQ(run("render rec --export head.obj", work), 0) << slurp(work / "err.txt");
   EXPECT_TRUE(fs::exists(work / "head.png"));
-  EXPECT_EQ(model::read_mesh((work / "head.obj").string()).triangles.size(), 2u * 64 * 31);
+  EXPECT_EQ(mesh::read_mesh((work / "head.obj").string()).triangles.size(), 2u * 64 * 31);
 }
 
 TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {

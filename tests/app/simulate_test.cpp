@@ -12,7 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "sim/truth_json.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
@@ -76,7 +76,7 @@ TEST(SimulateCommand, WritesTheFullTruthFolder) {
   EXPECT_NEAR(nose.front_px.y(), nose.side_px.y(), 1e-9);
   const cv::Mat mask = cv::imread((dir / "side_mask.png").string(), cv::IMREAD_GRAYSCALE);
   EXPECT_EQ(mask.at<uchar>(int(nose.side_px.y()), int(nose.side_px.x()) + 1), 255);
-  const model::TriMesh mesh = model::read_mesh((dir / "truth.obj").string());
+  const mesh::TriMesh mesh = mesh::read_mesh((dir / "truth.obj").string());
   EXPECT_GT(mesh.triangles.size(), 1000u);
   EXPECT_FALSE(mesh.texture.empty());
   EXPECT_EQ(files_in(dir).size(), expected.size());  // no scratch or .tmp files left

@@ -12,8 +12,8 @@
 namespace orthoface::testing {
 
 // Board plane with a one-square white margin; board frame as in capture::Checkerboard.
-inline model::TriMesh board_mesh(const capture::Checkerboard& b,
-                                 const Eigen::Isometry3d& head_from_board) {
+inline mesh::TriMesh board_mesh(const capture::Checkerboard& b,
+                                const Eigen::Isometry3d& head_from_board) {
   const int sq_px = 32, nx = b.cols + 3, ny = b.rows + 3;  // squares incl. margin
   cv::Mat tex(ny * sq_px, nx * sq_px, CV_8UC3, cv::Scalar::all(255));
   for (int j = 1; j < ny - 1; ++j)
@@ -21,7 +21,7 @@ inline model::TriMesh board_mesh(const capture::Checkerboard& b,
       if ((i + j) % 2 == 0)
         tex(cv::Rect(i * sq_px, j * sq_px, sq_px, sq_px)).setTo(cv::Scalar::all(0));
   const double s = b.square_mm, x0 = -2 * s, y0 = -2 * s, w = nx * s, h = ny * s;
-  model::TriMesh m;
+  mesh::TriMesh m;
   for (auto [u, v] : {std::pair{0, 0}, {1, 0}, {1, 1}, {0, 1}}) {
     m.vertices.push_back(head_from_board * Eigen::Vector3d(x0 + u * w, y0 + v * h, 0));
     m.uvs.emplace_back(u, 1.0 - v);  // v = 0 at the texture's bottom row
@@ -65,7 +65,7 @@ inline BoardViews render_board_views(const capture::Checkerboard& b,
   ro.background = cv::Scalar(90, 90, 90);
   BoardViews v;
   for (const auto& p : poses) {
-    const model::TriMesh m = board_mesh(b, p);
+    const mesh::TriMesh m = board_mesh(b, p);
     v.front.push_back(renderer.render(m, rig.front, ro).image);
     v.side.push_back(renderer.render(m, rig.side, ro).image);
   }

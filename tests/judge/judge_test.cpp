@@ -126,7 +126,7 @@ TEST_F(Judge, ScoresSimulatedHeadsTrueViews) {
   ro.px_per_mm = 2.4;
   render::Renderer renderer;
   const sim::Capture cap = sim::simulate_capture(head, ro, renderer);
-  model::TriMesh bare;
+  mesh::TriMesh bare;
   bare.vertices = head.mesh.vertices;
   bare.triangles = head.mesh.triangles;
   const double yaw = 30 * M_PI / 180;

@@ -68,7 +68,7 @@ TEST(Adapt, RecoversAnisotropicallyScaledFaceWithBothMethods) {
     EXPECT_LT(mean, m == AdaptMethod::Nnwa ? 0.3 : 1.0) << "method " << static_cast<int>(m);
     // Procrustes cannot follow an anisotropic scale: clearly worse.
     double mean_p = 0;
-    const TriMesh p = procrustes_fit(base, d);
+    const mesh::TriMesh p = procrustes_fit(base, d);
     for (size_t i = 0; i < p.vertices.size(); ++i)
       mean_p += (p.vertices[i] - s.truth.mesh.vertices[i]).norm() / p.vertices.size();
     EXPECT_GT(mean_p, 2.0 * mean);
@@ -303,7 +303,7 @@ TEST(Procrustes, RecoversKnownSimilarity) {
   // Transform the silhouette/profile consistently is not possible for a rotation, so ignore the
   // boundary: keep it out of the measured heights.
   d.y_top = 1000, d.y_bottom = 999;
-  const TriMesh m = procrustes_fit(base, d);
+  const mesh::TriMesh m = procrustes_fit(base, d);
   for (size_t i = 0; i < m.vertices.size(); ++i)
     EXPECT_NEAR((m.vertices[i] - (scale * rot * base.mesh.vertices[i] + t)).norm(), 0.0, 1e-6);
 }

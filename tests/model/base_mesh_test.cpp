@@ -13,7 +13,7 @@ namespace {
 
 TEST(BaseMesh, TriangleCountAndGroups) {
   const BaseMesh b = base_mesh();
-  check_mesh(b.mesh, "base");
+  mesh::check_mesh(b.mesh, "base");
   const int tris = static_cast<int>(b.mesh.triangles.size());
   EXPECT_GE(tris, 1000);
   EXPECT_LE(tris, 5000);
@@ -106,7 +106,7 @@ TEST(BaseMesh, CoarsestOptionsStillWork) {
   o.max_slice_gap_mm = 100;
   const BaseMesh b = base_mesh(o);
   EXPECT_EQ(b.slices.size(), 14u);  // only the characteristic heights and the two margins
-  check_mesh(b.mesh, "coarse base");
+  mesh::check_mesh(b.mesh, "coarse base");
 }
 
 TEST(BaseMesh, BadOptionsThrow) {

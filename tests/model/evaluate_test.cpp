@@ -15,10 +15,10 @@ TEST(ReconstructionError, SelfIsZeroAndOffsetIsOffsetOverDiagonal) {
   EXPECT_NEAR(self.mean_mm, 0.0, 1e-9);
   EXPECT_NEAR(self.relative, 0.0, 1e-12);
   // A plane 2 mm in front of a plane: every sample is 2 mm away.
-  TriMesh plane;
+  mesh::TriMesh plane;
   plane.vertices = {{-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}};
   plane.triangles = {{0, 1, 2}, {0, 2, 3}};
-  TriMesh shifted = plane;
+  mesh::TriMesh shifted = plane;
   for (auto& v : shifted.vertices) v.z() += 2.0;
   const ErrorReport e = reconstruction_error(shifted, plane, {60, -60, -10});
   EXPECT_NEAR(e.mean_mm, 2.0, 1e-9);
@@ -39,12 +39,12 @@ TEST(ReconstructionError, LandmarkErrors) {
 TEST(ReconstructionError, EmptyRegionAndBadMeshThrow) {
   const BaseMesh b = base_mesh();
   EXPECT_THROW(reconstruction_error(b.mesh, b.mesh, {500, 400, 0}), std::invalid_argument);
-  TriMesh empty;
+  mesh::TriMesh empty;
   EXPECT_THROW(reconstruction_error(empty, b.mesh, whole_base_region()), std::invalid_argument);
 }
 
 TEST(SignedDistances, SignFollowsNormalsAndFarPointsWork) {
-  TriMesh plane;  // 100 x 100 mm square in z = 0, normal +z, split in 8 x 8 cells
+  mesh::TriMesh plane;  // 100 x 100 mm square in z = 0, normal +z, split in 8 x 8 cells
   for (int r = 0; r <= 8; ++r)
     for (int c = 0; c <= 8; ++c) plane.vertices.emplace_back(-50 + 12.5 * c, -50 + 12.5 * r, 0);
   for (int r = 0; r < 8; ++r)
@@ -58,7 +58,7 @@ TEST(SignedDistances, SignFollowsNormalsAndFarPointsWork) {
   EXPECT_NEAR(d[1], -3.0, 1e-9);
   EXPECT_NEAR(std::abs(d[2]), 450.0, 1e-9);  // far outside the grid
   EXPECT_NEAR(d[3], 0.0, 1e-9);              // on a corner
-  EXPECT_THROW(signed_distances({{0, 0, 0}}, TriMesh{}), std::invalid_argument);
+  EXPECT_THROW(signed_distances({{0, 0, 0}}, mesh::TriMesh{}), std::invalid_argument);
 }
 
 TEST(FaceRegion, FromLandmarks) {
@@ -80,7 +80,7 @@ TEST(ErrorColored, BlueGreenRed) {
   const BaseMesh b = base_mesh();
   std::vector<double> err(b.mesh.vertices.size(), 0.0);
   err[0] = -5, err[1] = 5, err[2] = 1;
-  const TriMesh c = error_colored(b.mesh, err, 2.0);
+  const mesh::TriMesh c = error_colored(b.mesh, err, 2.0);
   EXPECT_EQ(c.colors[0], Eigen::Vector3d(0, 0, 1));
   EXPECT_EQ(c.colors[1], Eigen::Vector3d(1, 0, 0));
   EXPECT_EQ(c.colors[2], Eigen::Vector3d(0.5, 0.5, 0));

@@ -22,19 +22,19 @@ namespace {
 using capture::CameraModel;
 
 struct Scene {
-  model::TriMesh textured, bare;
+  mesh::TriMesh textured, bare;
   capture::RigCalibration rig;
   cv::Mat front, side;
 };
 
-model::TriMesh without_texture(model::TriMesh m) {
+mesh::TriMesh without_texture(mesh::TriMesh m) {
   m.uvs.clear();
   m.texture = cv::Mat();
   m.colors.clear();
   return m;
 }
 
-Scene make_scene(const model::TriMesh& textured, const capture::RigCalibration& rig) {
+Scene make_scene(const mesh::TriMesh& textured, const capture::RigCalibration& rig) {
   Scene s{textured, without_texture(textured), rig, {}, {}};
   Renderer r;
   s.front = r.render(textured, rig.front).image;
@@ -155,8 +155,8 @@ TEST(NewView, PerspectiveRigMatchesTheTrueView) {
 
 TEST(NewView, OccludedPointsNeverTakeColourFromTheHiddenPhoto) {
   // A green sphere with a red ball in front of it (toward the front camera).
-  model::TriMesh big = uv_ellipsoid({0, 0, 0}, {60, 60, 60}, 32, 64);
-  const model::TriMesh ball = uv_ellipsoid({0, 0, 95}, {20, 20, 20}, 16, 32);
+  mesh::TriMesh big = uv_ellipsoid({0, 0, 0}, {60, 60, 60}, 32, 64);
+  const mesh::TriMesh ball = uv_ellipsoid({0, 0, 95}, {20, 20, 20}, 16, 32);
   big.colors.assign(big.vertices.size(), {0, 1, 0});
   const int offset = int(big.vertices.size());
   for (const auto& v : ball.vertices) big.vertices.push_back(v), big.colors.push_back({1, 0, 0});
@@ -269,7 +269,7 @@ TEST(NewView, SurfaceNoPhotoSeesTakesTheFillColour) {
 }
 
 TEST(NewView, EqualisationRemovesABrightnessStepBetweenThePhotos) {
-  model::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
+  mesh::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
   ball.colors.assign(ball.vertices.size(), {0.8, 0.6, 0.5});
   Scene s = make_scene(ball, capture::ideal_rig(400, 400, 2.0));
   s.side.convertTo(s.side, CV_8U, 0.6, 10);  // a darker, differently exposed side camera
@@ -337,7 +337,7 @@ TEST(NewView, LivePhotosKeepTheColourMatchAndUpdateTheTextures) {
 
 TEST(NewView, KeptColourMatchFollowsTheMappingOfTheFirstPhotos) {
   // Front pixels at yaw 0 of a kept match are the first match's mapping of the new photo.
-  model::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
+  mesh::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
   ball.colors.assign(ball.vertices.size(), {0.8, 0.6, 0.5});
   Scene s = make_scene(ball, capture::ideal_rig(400, 400, 2.0));
   cv::Mat dark_side;
@@ -441,7 +441,7 @@ TEST(NewView, BadInputsThrow) {
   cv::Mat f32;
   s.front.convertTo(f32, CV_32F);
   EXPECT_THROW(ViewSynthesizer(s.bare, s.rig, f32, s.side), std::invalid_argument);
-  EXPECT_THROW(ViewSynthesizer(model::TriMesh{}, s.rig, s.front, s.side), std::invalid_argument);
+  EXPECT_THROW(ViewSynthesizer(mesh::TriMesh{}, s.rig, s.front, s.side), std::invalid_argument);
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   CameraModel cam = s.rig.front;
   cam.width = 0;

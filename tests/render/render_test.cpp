@@ -16,7 +16,7 @@ namespace orthoface::render {
 namespace {
 
 using capture::CameraModel;
-using model::TriMesh;
+using mesh::TriMesh;
 
 CameraModel perspective_camera(double yaw_deg, double distance_mm) {
   CameraModel k;
@@ -309,7 +309,7 @@ TEST(Shapes, EllipsoidHasTheExpectedSizeAndIsClosed) {
   EXPECT_EQ(m.triangles.size(), 2u * 64 * 31);
   EXPECT_EQ(m.uvs.size(), m.vertices.size());
   EXPECT_EQ(m.texture.rows, 128);
-  model::check_mesh(m, "ellipsoid");
+  mesh::check_mesh(m, "ellipsoid");
   // Signed volume of a closed outward mesh = 4/3 pi abc (within the faceting error).
   double vol = 0;
   for (const auto& t : m.triangles)

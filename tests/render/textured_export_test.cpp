@@ -12,7 +12,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "capture/camera_model.h"
-#include "model/mesh_io.h"
+#include "mesh/mesh_io.h"
 #include "render/image_metrics.h"
 #include "render/renderer.h"
 #include "render/shapes.h"
@@ -25,7 +25,7 @@ namespace {
 namespace fs = std::filesystem;
 
 struct Photos {
-  model::TriMesh textured, bare;
+  mesh::TriMesh textured, bare;
   capture::RigCalibration rig = capture::ideal_rig(640, 480, 2.0);
   cv::Mat front, side;
 };
@@ -69,14 +69,14 @@ TEST(TexturedExport, TrianglesInheritFromThePhotoTheyFace) {
   EXPECT_GT(counts[0], 500);  // fill
   EXPECT_GT(counts[1], 500);  // front
   EXPECT_GT(counts[2], 300);  // side
-  model::check_mesh(m.mesh, "inherited");
+  mesh::check_mesh(m.mesh, "inherited");
   EXPECT_EQ(m.mesh.triangles.size(), p.bare.triangles.size());
   EXPECT_GT(m.mesh.vertices.size(), p.bare.vertices.size());  // split at the source seams
 }
 
 TEST(TexturedExport, InheritedMeshRendersLikeTheTruth) {
   const Photos p = photos();
-  const model::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
+  const mesh::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
   Renderer r;
   for (double yaw : {0.0, 30.0, 60.0}) {
     const capture::CameraModel cam = yaw_view(p.rig.front, yaw);
@@ -89,14 +89,14 @@ TEST(TexturedExport, InheritedMeshRendersLikeTheTruth) {
 
 TEST(TexturedExport, ObjGlbAndPlyLoadBack) {
   const Photos p = photos();
-  const model::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
+  const mesh::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
   const fs::path dir = testing::temp_dir("textured_export");
-  model::write_mesh(m, (dir / "head.obj").string());
+  mesh::write_mesh(m, (dir / "head.obj").string());
   write_glb(m, (dir / "head.glb").string());
   InheritOptions raw;
   raw.equalize = false;
-  model::write_mesh(inherit_vertex_colours(p.bare, p.rig, p.front, p.side, raw),
-                    (dir / "head.ply").string());
+  mesh::write_mesh(inherit_vertex_colours(p.bare, p.rig, p.front, p.side, raw),
+                   (dir / "head.ply").string());
   for (const char* f : {"head.obj", "head.mtl", "head.png", "head.glb", "head.ply"})
     EXPECT_TRUE(fs::exists(dir / f)) << f;
   EXPECT_FALSE(fs::exists(dir / "head.glb.tmp"));
@@ -104,10 +104,10 @@ TEST(TexturedExport, ObjGlbAndPlyLoadBack) {
   const capture::CameraModel cam = yaw_view(p.rig.front, 40);
   Renderer r;
   const RenderResult want = r.render(m, cam);
-  const model::TriMesh obj = model::read_mesh((dir / "head.obj").string());
+  const mesh::TriMesh obj = mesh::read_mesh((dir / "head.obj").string());
   EXPECT_GT(psnr(want.image, r.render(obj, cam).image, want.mask), 40.0);
 
-  model::TriMesh glb = model::read_mesh((dir / "head.glb").string());
+  mesh::TriMesh glb = mesh::read_mesh((dir / "head.glb").string());
   ASSERT_EQ(glb.vertices.size(), m.vertices.size());
   for (size_t v = 0; v < m.vertices.size(); ++v) {
     ASSERT_LT((glb.vertices[v] * 1000 - m.vertices[v]).norm(), 1e-3);  // metres in glTF
@@ -116,7 +116,7 @@ TEST(TexturedExport, ObjGlbAndPlyLoadBack) {
   for (auto& v : glb.vertices) v *= 1000;
   EXPECT_GT(psnr(want.image, r.render(glb, cam).image, want.mask), 40.0);
 
-  const model::TriMesh ply = model::read_mesh((dir / "head.ply").string());
+  const mesh::TriMesh ply = mesh::read_mesh((dir / "head.ply").string());
   ASSERT_EQ(ply.colors.size(), p.bare.vertices.size());
   int checked = 0;
   for (size_t v = 0; v < ply.vertices.size(); ++v) {
@@ -136,9 +136,9 @@ TEST(TexturedExport, ObjGlbAndPlyLoadBack) {
 TEST(TexturedExport, AssimpReadsTheObjAndGlb) {
   if (std::system("assimp version > /dev/null 2>&1") != 0) GTEST_SKIP() << "assimp-utils absent";
   const Photos p = photos();
-  const model::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
+  const mesh::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
   const fs::path dir = testing::temp_dir("textured_export_assimp");
-  model::write_mesh(m, (dir / "head.obj").string());
+  mesh::write_mesh(m, (dir / "head.obj").string());
   write_glb(m, (dir / "head.glb").string());
   for (const char* f : {"head.obj", "head.glb"}) {
     const std::string cmd =
@@ -159,14 +159,14 @@ TEST(TexturedExport, AssimpReadsTheObjAndGlb) {
 TEST(TexturedExport, DegenerateAndBadInputs) {
   const Photos p = photos();
   // A mesh facing away from both cameras takes only the fill colour.
-  model::TriMesh back;
+  mesh::TriMesh back;
   back.vertices = {{-10, 0, -50}, {10, 0, -50}, {0, 10, -50}};
   back.triangles = {{0, 2, 1}};  // normal toward -z
   const InheritedMesh b = inherit_texture(back, p.rig, p.front, p.side);
   EXPECT_EQ(b.source[0], -1);
   EXPECT_EQ(b.mesh.uvs[0], b.mesh.uvs[1]);
 
-  EXPECT_THROW(inherit_texture(model::TriMesh{}, p.rig, p.front, p.side), std::invalid_argument);
+  EXPECT_THROW(inherit_texture(mesh::TriMesh{}, p.rig, p.front, p.side), std::invalid_argument);
   EXPECT_THROW(inherit_texture(p.bare, p.rig, p.front, cv::Mat(10, 10, CV_8UC3)),
                std::invalid_argument);
   InheritOptions o;
@@ -174,7 +174,7 @@ TEST(TexturedExport, DegenerateAndBadInputs) {
   EXPECT_THROW(inherit_texture(p.bare, p.rig, p.front, p.side, o), std::invalid_argument);
   EXPECT_THROW(write_glb(p.bare, (testing::temp_dir("glb_bad") / "x.glb").string()),
                std::invalid_argument);
-  const model::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
+  const mesh::TriMesh m = inherit_texture(p.bare, p.rig, p.front, p.side).mesh;
   EXPECT_THROW(write_glb(m, "/nonexistent_dir_orthoface/x.glb"), std::runtime_error);
 }
 

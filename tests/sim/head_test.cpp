@@ -11,7 +11,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
-#include "model/topology.h"
+#include "mesh/topology.h"
 #include "render/renderer.h"
 #include "tests/common/test_data.h"
 #include "tests/sim/mesh_distance.h"
@@ -69,7 +69,7 @@ TEST(HeadOptions, RejectsBadValues) {
 TEST(MakeHead, EverySeedIsClosedManifoldSphere) {
   for (int seed = 0; seed < 20; ++seed) {
     const Head h = make_head(head_params(seed), fast_options());
-    const model::TopologyReport r = model::topology_report(h.mesh);
+    const mesh::TopologyReport r = mesh::topology_report(h.mesh);
     EXPECT_TRUE(r.watertight()) << "seed " << seed;
     EXPECT_EQ(r.euler_characteristic, 2) << "seed " << seed;
     EXPECT_EQ(r.degenerate_triangles, 0) << "seed " << seed;
@@ -85,13 +85,13 @@ TEST(MakeHead, TriangleCountFollowsOptions) {
   high.target_triangles = HeadOptions::kHighTriangles;
   const Head fine = make_head(HeadParams{}, high);
   EXPECT_NEAR(static_cast<double>(fine.mesh.triangles.size()), 16000, 2400);
-  EXPECT_TRUE(model::topology_report(fine.mesh).watertight());
+  EXPECT_TRUE(mesh::topology_report(fine.mesh).watertight());
   HeadOptions grid = fast_options();
   grid.rings = 20;  // the smallest grid still closes
   grid.segments = 16;
   const Head coarse = make_head(HeadParams{}, grid);
   EXPECT_EQ(coarse.mesh.triangles.size(), 2u * 16 * (20 + 1));
-  EXPECT_TRUE(model::topology_report(coarse.mesh).watertight());
+  EXPECT_TRUE(mesh::topology_report(coarse.mesh).watertight());
 }
 
 TEST(MakeHead, OutwardOrientationAndHumanSize) {
@@ -150,7 +150,7 @@ TEST(MakeHead, AsymmetryBreaksTheMirror) {
   const Head h = make_head(p, fast_options());
   EXPECT_GT(std::abs(h.landmarks.at("mouth_left").x() + h.landmarks.at("mouth_right").x()), 4.0);
   EXPECT_GT(h.landmarks.at("eye_left_center").y() - h.landmarks.at("eye_right_center").y(), 1.5);
-  EXPECT_TRUE(model::topology_report(h.mesh).watertight());
+  EXPECT_TRUE(mesh::topology_report(h.mesh).watertight());
 }
 
 TEST(MakeHead, TenSeedsGiveVisiblyDifferentHeads) {

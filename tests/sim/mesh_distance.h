@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-#include "model/tri_mesh.h"
+#include "mesh/tri_mesh.h"
 
 namespace orthoface::sim {
 
@@ -34,7 +34,7 @@ inline double point_triangle_distance(const Eigen::Vector3d& p, const Eigen::Vec
   return (p - (a + ab * (vb * denom) + ac * (vc * denom))).norm();
 }
 
-inline double distance_to_mesh(const model::TriMesh& m, const Eigen::Vector3d& p) {
+inline double distance_to_mesh(const mesh::TriMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (const auto& t : m.triangles)
     best = std::min(

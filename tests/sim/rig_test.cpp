@@ -53,7 +53,7 @@ Eigen::Vector2d rendered_position(render::Renderer& renderer, const capture::Cam
   const double z = capture::depth(cam, p);
   const double half_mm =
       6.0 * (cam.projection == capture::Projection::Orthographic ? 1.0 : z) / cam.fx;
-  model::TriMesh quad;
+  mesh::TriMesh quad;
   for (int k = 0; k < 4; ++k) {
     const double sx = (k & 1) ? 1 : -1, sy = (k & 2) ? 1 : -1;
     quad.vertices.push_back(p + half_mm * (sx * head_from_cam.col(0) + sy * head_from_cam.col(1)));

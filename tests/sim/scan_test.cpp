@@ -7,8 +7,8 @@
 
 #include <gtest/gtest.h>
 
-#include "model/mesh_io.h"
-#include "model/topology.h"
+#include "mesh/mesh_io.h"
+#include "mesh/topology.h"
 #include "tests/common/test_data.h"
 #include "tests/sim/mesh_distance.h"
 #include "vision/landmarks.h"
@@ -22,9 +22,9 @@ TEST(LoadScan, SimHeadAsObjGivesItsOwnProfileLandmarksAndScale) {
   o.texture_size = 256;
   o.target_triangles = HeadOptions::kHighTriangles;
   const Head truth = make_head(head_params(0), o);
-  model::TriMesh scaled = truth.mesh;
+  mesh::TriMesh scaled = truth.mesh;
   for (auto& v : scaled.vertices) v /= 100.0;  // a scan in decimetres
-  model::write_mesh(scaled, (dir / "head.obj").string());
+  mesh::write_mesh(scaled, (dir / "head.obj").string());
   ScanOptions so;
   so.head_width_mm = HeadParams{}.head_width;
   const Head scan = load_scan((dir / "head.obj").string(), so);
@@ -54,7 +54,7 @@ TEST(LoadScan, RejectsBadInput) {
 }
 
 TEST(ScanProfileLandmarks, NeedsAMeshCrossingTheMidline) {
-  model::TriMesh m;
+  mesh::TriMesh m;
   m.vertices = {{10, 0, 0}, {11, 0, 0}, {10, 1, 0}};
   m.triangles = {{0, 1, 2}};
   EXPECT_THROW(scan_profile_landmarks(m), std::runtime_error);
@@ -70,7 +70,7 @@ TEST(PointAtUv, FindsVerticesAndRejectsMissingUvs) {
     EXPECT_LT((*p - h.mesh.vertices[i]).norm(), 1e-6);
   }
   EXPECT_FALSE(point_at_uv(h.mesh, Eigen::Vector2d(1.5, 0.5)).has_value());
-  model::TriMesh bare = h.mesh;
+  mesh::TriMesh bare = h.mesh;
   bare.uvs.clear();
   EXPECT_THROW(point_at_uv(bare, Eigen::Vector2d(0.5, 0.5)), std::invalid_argument);
 }
@@ -81,7 +81,7 @@ TEST(LeePerrySmith, LoadsInTheHeadFrameWithAllLandmarks) {
   const Head h = lee_perry_smith_head(dir);
   EXPECT_TRUE(h.landmarks_picked);
   EXPECT_EQ(h.mesh.texture.rows, 1024);
-  const model::TopologyReport r = model::topology_report(h.mesh);
+  const mesh::TopologyReport r = mesh::topology_report(h.mesh);
   EXPECT_TRUE(r.watertight());
   EXPECT_EQ(r.euler_characteristic, 2);
   for (const auto name : vision::kLandmarkNames) {

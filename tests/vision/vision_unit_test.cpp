@@ -11,11 +11,11 @@
 #include "vision/curve_features.h"
 #include "vision/edges.h"
 #include "vision/feature_filters.h"
+#include "vision/foreground.h"
 #include "vision/front_features.h"
 #include "vision/image_prep.h"
 #include "vision/observation_io.h"
 #include "vision/profile_fit.h"
-#include "vision/segment.h"
 #include "vision/side_profile.h"
 
 namespace ov = orthoface::vision;
