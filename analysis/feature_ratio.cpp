@@ -72,14 +72,14 @@ std::vector<double> geodesic_euclidean_ratio(const mesh::TriMesh& mesh,
       int(p.size()) <= options.max_sources ? all : farthest_point_sample(p, options.max_sources);
   GeodesicOptions go;
   go.max_distance = options.ratio_cap * r;
-  // Sources split over the hardware threads, each with its own solver and ratio array; the
+  // Sources split into chunks over the thread pool, each with its own solver and ratio array; the
   // arrays are merged by maximum (order-free, so the result does not depend on the split).
   struct Worker {
     GeodesicSolver solver;
     std::vector<double> geo, ratio;
   };
   const int n_sources = static_cast<int>(sources.size());
-  std::vector<std::vector<double>> ratios(detail::row_threads(n_sources));
+  std::vector<std::vector<double>> ratios(detail::row_chunks(n_sources));
   detail::parallel_rows(
       n_sources,
       [&](int) {

@@ -1,17 +1,17 @@
 #pragma once
-// Work split over the hardware threads for model/ (not public API).
+// Rows of independent work split over OpenCV's thread pool for analysis/ (not public API).
 
 #include <algorithm>
-#include <atomic>
-#include <thread>
-#include <vector>
+#include <cstdint>
+
+#include <opencv2/core/utility.hpp>
 
 namespace orthoface::analysis::detail {
 
-// Threads parallel_rows uses for n rows: the hardware threads, but at least `min_rows` rows
-// each.
-inline int row_threads(int n, int min_rows = 64) {
-  return std::clamp(int(std::thread::hardware_concurrency()), 1, std::max(1, n / min_rows));
+// Chunks parallel_rows cuts n rows into: two per OpenCV thread (so uneven rows balance), but
+// at least `min_rows` rows each.
+inline int row_chunks(int n, int min_rows = 64) {
+  return std::clamp(2 * cv::getNumThreads(), 1, std::max(1, n / std::max(1, min_rows)));
 }
 
 struct NoFinish {
@@ -19,24 +19,26 @@ struct NoFinish {
   void operator()(Worker&, int) const {}
 };
 
-// Rows [0, n) filled by `fill_row(worker, row)` on row_threads(n) threads, each worker with its
-// own scratch state made by `make_worker(thread_index)` and handed to `finish(worker,
-// thread_index)` when the rows run out (e.g. to collect per-thread results). Rows that are
-// large pieces of work (blocks) can lower `min_rows`, the fewest rows worth a thread.
+// Rows [0, n) filled by `fill_row(worker, row)` in row_chunks(n) contiguous chunks run by
+// cv::parallel_for_, each chunk with its own scratch state made by `make_worker(chunk)` and
+// handed to `finish(worker, chunk)` when its rows are done (e.g. to collect per-chunk results
+// into a vector of row_chunks(n) slots). Rows that are large pieces of work (blocks) can lower
+// `min_rows`, the fewest rows worth a chunk.
 template <class MakeWorker, class FillRow, class Finish = NoFinish>
 void parallel_rows(int n, MakeWorker make_worker, FillRow fill_row, Finish finish = {},
                    int min_rows = 64) {
-  const int threads = row_threads(n, min_rows);
-  std::atomic<int> next{0};
-  auto run = [&](int index) {
-    auto worker = make_worker(index);
-    for (int row = next++; row < n; row = next++) fill_row(worker, row);
-    finish(worker, index);
-  };
-  std::vector<std::thread> pool;
-  for (int k = 1; k < threads; ++k) pool.emplace_back(run, k);
-  run(0);
-  for (auto& t : pool) t.join();
+  const int chunks = row_chunks(n, min_rows);
+  cv::parallel_for_(
+      cv::Range(0, chunks),
+      [&](const cv::Range& range) {
+        for (int c = range.start; c < range.end; ++c) {
+          auto worker = make_worker(c);
+          const int lo = int(int64_t(n) * c / chunks), hi = int(int64_t(n) * (c + 1) / chunks);
+          for (int row = lo; row < hi; ++row) fill_row(worker, row);
+          finish(worker, c);
+        }
+      },
+      chunks);
 }
 
 }  // namespace orthoface::analysis::detail

@@ -16,9 +16,9 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "analysis/similarity.h"
-#include "app/pipeline.h"
 #include "capture/camera_model.h"
 #include "mesh/mesh_io.h"
+#include "reconstruct/reconstruction.h"
 
 namespace fs = std::filesystem;
 using namespace orthoface;
@@ -96,13 +96,13 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
   for (int i : my_items(n, rank, size)) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
-      app::ReconstructOptions o;
+      reconstruct::ReconstructOptions o;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
       const cv::Mat front = cv::imread((items[i] / "front.png").string());
       const cv::Mat side = cv::imread((items[i] / "side.png").string());
-      const app::Reconstruction r = app::reconstruct(front, side, o);
-      app::write_reconstruction(r, (out / items[i].filename()).string());
+      const reconstruct::Reconstruction r = reconstruct::from_photos(front, side, o);
+      reconstruct::write_reconstruction(r, (out / items[i].filename()).string());
       status[i] = 1.0;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());

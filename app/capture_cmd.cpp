@@ -7,9 +7,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
 #include "app/station_output.h"
 #include "capture/pair_capture.h"
+#include "reconstruct/reconstruction.h"
 #include "sim/sim_camera.h"
 
 namespace orthoface::app {
@@ -68,11 +68,12 @@ int run_capture(int argc, char** argv) {
   save_pair(*pair, pair_dir);
   std::printf("pair saved: %s (skew %.1f ms)\n", pair_dir.c_str(), pair->skew_s * 1e3);
   if (a.has("no-reconstruct")) return 0;
-  ReconstructOptions ro;
+  reconstruct::ReconstructOptions ro;
   ro.rig = station_rig(a.get("rig"), a.get("front"), a.get("side"), o.width, o.height);
   try {
-    const Reconstruction r = reconstruct(pair->front.image, pair->side.image, ro);
-    write_reconstruction(r, out + "/model");
+    const reconstruct::Reconstruction r =
+        reconstruct::from_photos(pair->front.image, pair->side.image, ro);
+    reconstruct::write_reconstruction(r, out + "/model");
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(e.what()) + " (the captured pair is kept in " + pair_dir +
                              ")");

@@ -15,9 +15,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
 #include "app/sim_args.h"
 #include "model/evaluate.h"
+#include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
@@ -27,7 +27,6 @@
 #include "sim/rig.h"
 #include "sim/sim_folder.h"
 #include "vision/overlay.h"
-#include "vision/profile_mask.h"
 
 namespace orthoface::app {
 namespace {
@@ -42,12 +41,12 @@ struct DemoSubject {
   std::string folder;  // output subfolder name
   sim::Head head;
   sim::Capture capture;
-  std::vector<render::RenderResult> truth_views;  // one per kViewYawsDeg
-  std::optional<Reconstruction> model;            // empty when reconstruction failed
-  std::string failure;                            // why, when it failed
-  std::vector<cv::Mat> views;                     // synthesized, one per kViewYawsDeg
-  std::vector<double> psnr_db, ssim;              // view vs truth inside the face mask
-  double relative_error = -1;                     // seed 002 §4.1, -1 when not measured
+  std::vector<render::RenderResult> truth_views;     // one per kViewYawsDeg
+  std::optional<reconstruct::Reconstruction> model;  // empty when reconstruction failed
+  std::string failure;                               // why, when it failed
+  std::vector<cv::Mat> views;                        // synthesized, one per kViewYawsDeg
+  std::vector<double> psnr_db, ssim;                 // view vs truth inside the face mask
+  double relative_error = -1;                        // seed 002 §4.1, -1 when not measured
 };
 
 // Stage timings, seconds.
@@ -101,10 +100,10 @@ void truth_view_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions&
 // exactly as `reconstruct --rig rig.yaml` would from the simulate folder.
 void model_stage(std::vector<DemoSubject>& subjects) {
   for (DemoSubject& s : subjects) {
-    ReconstructOptions o;
+    reconstruct::ReconstructOptions o;
     o.rig = s.capture.nominal_rig;
     try {
-      s.model = reconstruct(s.capture.front, s.capture.side, o);
+      s.model = reconstruct::from_photos(s.capture.front, s.capture.side, o);
     } catch (const std::exception& e) {
       s.failure = e.what();
       std::cerr << "warning: " << s.label << ": reconstruction failed: " << e.what() << "\n";
@@ -124,16 +123,11 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
   so.depth = false;  // the views are scored and written as images
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
-    const vision::FaceObservation& obs = s.model->observation;
-    render::ViewSynthesizer synth(s.model->mesh,
-                                  capture::photo_rig(s.model->rig, obs.side_faces_left),
-                                  s.model->front, s.model->side);
-    if (obs.side.boundary.size() >= 2)
-      synth.set_photo_masks({}, vision::profile_mask(obs.side, obs.side_faces_left));
+    const auto synth = reconstruct::view_synthesizer(*s.model);
     for (size_t i = 0; i < std::size(kViewYawsDeg); ++i) {
       const capture::CameraModel camera =
           sim::true_view_camera(options, kViewYawsDeg[i] * M_PI / 180, 0);
-      s.views.push_back(synth.render(camera, so).view.image);
+      s.views.push_back(synth->render(camera, so).view.image);
       cv::Mat mask = sim::has_face_landmarks(s.head) ? sim::face_mask(s.head, camera, renderer)
                                                      : s.truth_views[i].mask;
       s.psnr_db.push_back(render::psnr(s.truth_views[i].image, s.views.back(), mask));
@@ -217,7 +211,7 @@ void write_stage(const std::vector<DemoSubject>& subjects, const sim::RigOptions
     if (!s.model) continue;
     const std::filesystem::path model_dir = dir / "model";
     std::filesystem::remove_all(model_dir);
-    write_reconstruction(*s.model, model_dir.string());
+    reconstruct::write_reconstruction(*s.model, model_dir.string());
     prepare_output_dir((dir / "views").string());
     for (size_t i = 0; i < s.views.size(); ++i) {
       char name[32];

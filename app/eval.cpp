@@ -11,9 +11,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
 #include "mesh/mesh_io.h"
 #include "model/evaluate.h"
+#include "reconstruct/reconstruction.h"
 #include "render/renderer.h"
 #include "sim/truth_json.h"
 
@@ -64,10 +64,11 @@ int run_eval(int argc, char** argv) {
   if (!args.has("truth")) throw std::invalid_argument("eval: --truth SIMDIR|MESH is required");
   const double range = args.has("range") ? to_double("range", args.get("range"), 0.01, 1000) : 3.0;
   const fs::path dir = args.positional[0];
-  require_file((dir / "head.obj").string(), "reconstruction mesh");
-  require_file((dir / "landmarks.json").string(), "reconstruction landmarks");
-  const mesh::TriMesh rec = mesh::read_mesh((dir / "head.obj").string(), {false, ""});
-  const Landmarks rec_landmarks = read_landmarks((dir / "landmarks.json").string());
+  const reconstruct::Reconstruction folder = reconstruct::read_reconstruction(dir.string());
+  if (folder.landmarks.empty())
+    throw std::runtime_error("reconstruction folder " + dir.string() + ": no landmarks.json");
+  const mesh::TriMesh& rec = folder.mesh;
+  const Landmarks& rec_landmarks = folder.landmarks;
   const fs::path truth_path = args.get("truth");
   mesh::TriMesh truth;
   Landmarks truth_landmarks;
@@ -87,9 +88,7 @@ int run_eval(int argc, char** argv) {
   const mesh::TriMesh colored =
       model::error_colored(rec, model::signed_distances(rec.vertices, truth), range);
   mesh::write_mesh(colored, (dir / "error.ply").string());
-  capture::CameraModel front = capture::ideal_rig(640, 480, 1.6).front;
-  if (fs::exists(dir / "rig.yaml")) front = capture::read_rig((dir / "rig.yaml").string()).front;
-  const cv::Mat picture = error_picture(colored, front);
+  const cv::Mat picture = error_picture(colored, folder.rig.front);
   const std::string png_tmp = (dir / "error.tmp.png").string();
   if (!cv::imwrite(png_tmp, picture)) throw std::runtime_error("cannot write " + png_tmp);
   fs::rename(png_tmp, dir / "error.png");

@@ -8,7 +8,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
+#include "reconstruct/reconstruction.h"
 
 namespace orthoface::app {
 namespace {
@@ -35,8 +35,8 @@ Command reconstruct_command() {
           0};
 }
 
-ReconstructOptions options_from(const Args& a) {
-  ReconstructOptions o;
+reconstruct::ReconstructOptions options_from(const Args& a) {
+  reconstruct::ReconstructOptions o;
   if (a.has("rig")) {
     require_file(a.get("rig"), "--rig");
     o.rig = capture::read_rig(a.get("rig"));
@@ -80,14 +80,14 @@ int run_reconstruct(int argc, char** argv) {
   for (const char* flag : {"front", "side", "out"})
     if (!args.has(flag))
       throw std::invalid_argument(std::string("reconstruct: --") + flag + " is required");
-  const ReconstructOptions options = options_from(args);
+  const reconstruct::ReconstructOptions options = options_from(args);
   const std::string out = args.get("out");
   if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
     throw std::runtime_error("output folder " + out + ": exists and is not a folder");
   const cv::Mat front = read_photo(args.get("front"), "--front");
   const cv::Mat side = read_photo(args.get("side"), "--side");
-  const Reconstruction r = reconstruct(front, side, options);
-  write_reconstruction(r, out);
+  const reconstruct::Reconstruction r = reconstruct::from_photos(front, side, options);
+  reconstruct::write_reconstruction(r, out);
   double total = 0;
   for (const auto& [stage, ms] : r.report.stage_ms) total += ms;
   std::printf(

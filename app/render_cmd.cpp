@@ -14,15 +14,13 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
 #include "capture/camera_model.h"
 #include "mesh/mesh_io.h"
 #include "model/symmetry.h"
+#include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
 #include "render/textured_export.h"
-#include "vision/observation_io.h"
-#include "vision/profile_mask.h"
 
 namespace orthoface::app {
 namespace {
@@ -102,44 +100,6 @@ void write_image(const cv::Mat& image, const fs::path& path) {
   }
 }
 
-struct Folder {
-  mesh::TriMesh mesh;
-  capture::RigCalibration rig;  // where the photos were taken (capture::photo_rig)
-  cv::Mat front, side;
-  cv::Mat side_mask;  // subject side of vision's profile (empty: whole photo)
-};
-
-Folder read_folder(const fs::path& dir) {
-  if (!fs::is_directory(dir))
-    throw std::runtime_error("reconstruction folder " + dir.string() + " does not exist");
-  Folder f;
-  for (const char* name : {"head.obj", "front.png", "side.png"})
-    require_file((dir / name).string(), "reconstruction folder " + dir.string() + ": " + name);
-  mesh::MeshReadOptions ro;
-  ro.load_texture = false;
-  f.mesh = mesh::read_mesh((dir / "head.obj").string(), ro);
-  f.mesh.uvs.clear();
-  f.mesh.texture = cv::Mat();
-  for (auto [name, image] : {std::pair{"front.png", &f.front}, {"side.png", &f.side}}) {
-    *image = cv::imread((dir / name).string(), cv::IMREAD_COLOR);
-    if (image->empty()) throw std::runtime_error("cannot read image " + (dir / name).string());
-  }
-  if (fs::exists(dir / "rig.yaml"))
-    f.rig = capture::read_rig((dir / "rig.yaml").string());
-  else
-    f.rig = capture::ideal_rig(f.front.cols, f.front.rows, 1.6);
-  // A side photo taken from the subject's right was mirrored for the model, not for texturing.
-  if (fs::exists(dir / "observation.json")) {
-    const vision::FaceObservation obs =
-        vision::read_observation((dir / "observation.json").string());
-    f.rig = capture::photo_rig(f.rig, obs.side_faces_left);
-    if (obs.side.boundary.size() >= 2 && obs.side.width == f.side.cols &&
-        obs.side.height == f.side.rows)
-      f.side_mask = vision::profile_mask(obs.side, obs.side_faces_left);
-  }
-  return f;
-}
-
 // The view camera (capture::view_camera) with the front camera's model rescaled to the output
 // size.
 capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int width, int height,
@@ -183,15 +143,15 @@ void check_output_folder(const fs::path& out, const std::string& flag) {
                                 out.parent_path().string() + " does not exist");
 }
 
-void export_mesh(const Folder& f, const fs::path& path, bool equalize) {
+void export_mesh(const reconstruct::Reconstruction& f, const fs::path& path, bool equalize) {
   render::InheritOptions o;
   o.equalize = equalize;
   const std::string ext = lower_extension(path);
   if (ext == ".ply") {
-    mesh::write_mesh(render::inherit_vertex_colours(f.mesh, f.rig, f.front, f.side, o),
+    mesh::write_mesh(render::inherit_vertex_colours(f.mesh, f.photo_rig, f.front, f.side, o),
                      path.string());
   } else {
-    const mesh::TriMesh m = render::inherit_texture(f.mesh, f.rig, f.front, f.side, o).mesh;
+    const mesh::TriMesh m = render::inherit_texture(f.mesh, f.photo_rig, f.front, f.side, o).mesh;
     if (ext == ".glb")
       render::write_glb(m, path.string());
     else
@@ -247,25 +207,22 @@ int run_render(int argc, char** argv) {
   }
   std::pair<int, int> size{0, 0};
   if (a.has("size")) size = to_size("size", a.get("size"), render::kMaxRenderSize);
-  const Folder f = read_folder(a.positional[0]);
+  const reconstruct::Reconstruction f = reconstruct::read_reconstruction(
+      a.positional[0], {.landmarks = a.has("mirror")});  // landmarks only when asked for
   if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
   if (!view_wanted) return 0;
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
-  render::ViewSynthesizer synth(f.mesh, f.rig, f.front, f.side);
-  synth.set_photo_masks({}, f.side_mask);
-  if (a.has("mirror")) {  // landmarks.json is read only when asked for
-    const fs::path landmarks = fs::path(a.positional[0]) / "landmarks.json";
-    const auto plane = fs::exists(landmarks)
-                           ? model::mid_sagittal_plane(read_landmarks(landmarks.string()))
-                           : std::nullopt;
+  const auto synth = reconstruct::view_synthesizer(f);
+  if (a.has("mirror")) {
+    const auto plane = model::mid_sagittal_plane(f.landmarks);
     if (!plane)
       throw std::invalid_argument("--mirror: " + a.positional[0] +
                                   " has no landmarks.json with left / right feature pairs");
-    synth.set_mirror_plane(plane);
+    synth->set_mirror_plane(plane);
   }
   o.float_textures = !a.has("no-float");
   if (!turntable) {
-    const auto r = synth.render(scaled_view_camera(f.rig, w, h, yaw, pitch), o);
+    const auto r = synth->render(scaled_view_camera(f.photo_rig, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s)\n", out.string().c_str(), w, h, yaw,
                 pitch, render::blend_name(o.blend));
@@ -274,7 +231,7 @@ int run_render(int argc, char** argv) {
   std::vector<render::Tile> tiles;
   for (int i = 0; i < turntable; ++i) {
     const double y = -90.0 + 180.0 * i / (turntable - 1);
-    const auto r = synth.render(scaled_view_camera(f.rig, w, h, y, pitch), o);
+    const auto r = synth->render(scaled_view_camera(f.photo_rig, w, h, y, pitch), o);
     char name[64];
     std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
     const fs::path view = out.parent_path() / (out.stem().string() + name + ext);

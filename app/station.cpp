@@ -20,10 +20,10 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/pipeline.h"
 #include "app/station_http.h"
 #include "app/station_output.h"
 #include "capture/pair_capture.h"
+#include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "sim/sim_camera.h"
 
@@ -122,7 +122,7 @@ class Station {
   std::unique_ptr<V4l2Output> v4l2_;
   std::unique_ptr<render::ViewSynthesizer> synth_;
   capture::RigCalibration synth_rig_;
-  std::future<Reconstruction> fit_;
+  std::future<reconstruct::Reconstruction> fit_;
   cv::Mat view_;
   std::vector<double> latency_s_, out_times_;
   std::vector<std::string> pairs_saved_, events_;
@@ -149,21 +149,20 @@ Station::Station(const Settings& s) : s_(s) {
 
 void Station::start_fit(const capture::FramePair& pair) {
   if (fit_.valid()) return;  // one fit at a time
-  ReconstructOptions o;
+  reconstruct::ReconstructOptions o;
   o.rig = rig_;
-  fit_ = std::async(std::launch::async,
-                    [pair, o] { return reconstruct(pair.front.image, pair.side.image, o); });
+  fit_ = std::async(std::launch::async, [pair, o] {
+    return reconstruct::from_photos(pair.front.image, pair.side.image, o);
+  });
 }
 
 void Station::finish_fit() {
   if (!fit_.valid() || fit_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
   try {
-    Reconstruction r = fit_.get();
+    reconstruct::Reconstruction r = fit_.get();
     if (!synth_) {
-      // Texture from where the photos were taken: a side camera on the subject's right stands
-      // at -x for texturing (the model mirrored its observation, not its photos).
-      synth_ = std::make_unique<render::ViewSynthesizer>(
-          r.mesh, capture::photo_rig(r.rig, r.observation.side_faces_left), r.front, r.side);
+      // Texture from where the photos were taken; no side mask: the live frames move.
+      synth_ = std::make_unique<render::ViewSynthesizer>(r.mesh, r.photo_rig, r.front, r.side);
       synth_rig_ = r.rig;
     } else {
       synth_->set_mesh(r.mesh);

@@ -1,6 +1,6 @@
 // real_views_bench: the real-photo judge (issue 14). Every FRMDB person in DIR (DIR/<id>/Img_33
 // front, Img_53 side from the subject's right, Img_43 / Img_23 the real +-45 degree photos) is
-// reconstructed from Img_33 + Img_53 through the product's pipeline (app::reconstruct) and
+// reconstructed from Img_33 + Img_53 through the product's pipeline (reconstruct::from_photos) and
 // rendered at yaw +-15, +-30, +-45 the way `orthoface render` does. An independent landmarker,
 // dlib's HOG face detector (one upsampling, the largest face) and its 68-point predictor
 // (judge/face_judge.h), then says:
@@ -30,14 +30,13 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "app/pipeline.h"
 #include "bench/bench_report.h"
 #include "judge/face_judge.h"
 #include "model/symmetry.h"
+#include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
-#include "vision/profile_mask.h"
 
 namespace {
 
@@ -144,22 +143,20 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const cv::Mat real_far = cv::imread((d / "Img_23.JPG").string());
       if (front.empty() || side.empty() || real_near.empty() || real_far.empty())
         throw std::runtime_error("unreadable photo");
-      app::ReconstructOptions ro;
+      reconstruct::ReconstructOptions ro;
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
       ro.observe.landmarker = opt.landmarker;
-      const app::Reconstruction rec = app::reconstruct(front, side, ro);
+      const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
       ++reconstructed;
-      const bool faces_left = rec.observation.side_faces_left;
-      const capture::RigCalibration rig = capture::photo_rig(rec.rig, faces_left);
-      render::ViewSynthesizer synth(rec.mesh, rig, rec.front, rec.side);
-      synth.set_photo_masks({}, vision::profile_mask(rec.observation.side, faces_left));
-      if (opt.mirror) synth.set_mirror_plane(model::mid_sagittal_plane(rec.landmarks));
+      const capture::RigCalibration& rig = rec.photo_rig;
+      const auto synth = reconstruct::view_synthesizer(rec);
+      if (opt.mirror) synth->set_mirror_plane(model::mid_sagittal_plane(rec.landmarks));
       render::SynthesisOptions so;
       so.float_textures = opt.float_textures;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
       auto view = [&](double yaw_deg) {
-        return synth.render(capture::view_camera(rec.rig, yaw_deg, 0), so);
+        return synth->render(capture::view_camera(rec.rig, yaw_deg, 0), so);
       };
       // The photographed side: the yaw sign that turns the view toward the side camera.
       const double near_sign = capture::photographed_side_sign(rig);
@@ -170,7 +167,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       // front's) against the side photo, over the pixels the mesh covers.
       render::SynthesisOptions with_weights = so;
       with_weights.source_weights = true;
-      const render::SynthesisResult v0 = synth.render(rig.front, with_weights);
+      const render::SynthesisResult v0 = synth->render(rig.front, with_weights);
       cv::Mat front_share;
       cv::extractChannel(v0.weights, front_share, 0);
       const cv::Mat front_sees = (front_share > 0) & v0.view.mask;  // the front photo sees it
@@ -179,7 +176,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                     std::max(1, cv::countNonZero(v0.view.mask));
       render::SynthesisOptions raw = with_weights;
       raw.equalize = false;
-      const render::SynthesisResult v90 = synth.render(rig.side, raw);
+      const render::SynthesisResult v90 = synth->render(rig.side, raw);
       cv::Mat side_share;
       cv::extractChannel(v90.weights, side_share, 1);
       const cv::Mat side_sees = (side_share > 0) & v90.view.mask;

@@ -7,7 +7,7 @@
 //                                        views_accuracy.{json,md} and error pictures at 45 deg
 //   real photos are judged by real_views_bench (an independent landmarker, dlib)
 //   --no-photo-masks (last argument)     texture without the side photo's profile mask
-// Every subject goes through the demo's pipeline (app::reconstruct: vision -> stereo -> eq. 2
+// Every subject goes through the demo's pipeline (reconstruct::from_photos: vision -> stereo -> eq. 2
 // with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
 // bound: only texturing error left), the adapted mesh, the Procrustes fit of the base mesh to
 // the same 3D targets and the unadapted base mesh (model/adapt.h), each with `pick` and
@@ -28,10 +28,10 @@
 #include <opencv2/imgproc.hpp>
 #include "bench/bench_report.h"
 
-#include "app/pipeline.h"
 #include "model/adapt.h"
 #include "model/base_mesh.h"
 #include "model/stereo.h"
+#include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
@@ -41,7 +41,6 @@
 #include "sim/rig.h"
 #include "sim/scan.h"
 #include "vision/observe.h"
-#include "vision/profile_mask.h"
 
 namespace {
 
@@ -77,7 +76,7 @@ mesh::TriMesh bare(const mesh::TriMesh& m) {
 
 // The four meshes of one reconstruction (index as kMeshNames).
 std::array<mesh::TriMesh, kNumMeshes> meshes(const mesh::TriMesh& truth,
-                                             const app::Reconstruction& r) {
+                                             const reconstruct::Reconstruction& r) {
   static const model::BaseMesh base = model::base_mesh();
   const model::StereoData data = model::stereo_match(r.observation, r.rig);  // as the pipeline
   return {bare(truth), bare(r.mesh), bare(model::procrustes_fit(base, data)), bare(base.mesh)};
@@ -160,21 +159,19 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   SubjectResult out;
   out.label = label;
   const sim::Capture cap = sim::simulate_capture(head, options, renderer);
-  app::ReconstructOptions ro;
+  reconstruct::ReconstructOptions ro;
   ro.rig = cap.nominal_rig;
   ro.observe.landmarker = g_landmarker;
-  app::Reconstruction r;
+  reconstruct::Reconstruction r;
   try {
-    r = app::reconstruct(cap.front, cap.side, ro);
+    r = reconstruct::from_photos(cap.front, cap.side, ro);
   } catch (const std::exception& e) {
     out.error = e.what();
     return out;
   }
   const auto m = meshes(head.mesh, r);
-  render::ViewSynthesizer synth(m[0], r.rig, r.front, r.side);
-  if (g_photo_masks)
-    synth.set_photo_masks({},
-                          vision::profile_mask(r.observation.side, r.observation.side_faces_left));
+  render::ViewSynthesizer synth(m[0], r.photo_rig, r.front, r.side);
+  if (g_photo_masks) synth.set_photo_masks({}, r.side_mask);
   std::vector<render::Tile> tiles;
   for (int y = 0; y < kNumYaws; ++y) {
     const double yaw = kYawsDeg[y] * M_PI / 180;

@@ -41,4 +41,12 @@ cv::Mat profile_mask(const ViewObservation& side, bool faces_left) {
   return mask;
 }
 
+cv::Mat side_photo_mask(const FaceObservation& observation, cv::Size side_size) {
+  const ViewObservation& s = observation.side;
+  if (s.boundary.size() < 2 || s.width != side_size.width || s.height != side_size.height ||
+      s.width <= 0 || s.height <= 0)
+    return {};
+  return profile_mask(s, observation.side_faces_left);
+}
+
 }  // namespace orthoface::vision

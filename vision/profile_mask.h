@@ -14,4 +14,8 @@ namespace orthoface::vision {
 // profile points.
 cv::Mat profile_mask(const ViewObservation& side, bool faces_left);
 
+// profile_mask of the observation's side view when it has a profile for a side photo of
+// `side_size`; an empty Mat (the whole photo) otherwise.
+cv::Mat side_photo_mask(const FaceObservation& observation, cv::Size side_size);
+
 }  // namespace orthoface::vision

@@ -45,5 +45,23 @@ TEST(ProfileMask, RefusesAViewWithoutSizeOrProfile) {
   EXPECT_THROW(profile_mask(empty, true), std::invalid_argument);
 }
 
+// The mask of an observation's own side photo; none for a photo of another size or without a
+// profile (then the whole photo may texture).
+TEST(ProfileMask, SidePhotoMaskOnlyForTheObservedPhoto) {
+  FaceObservation obs;
+  obs.side.width = 40;
+  obs.side.height = 30;
+  obs.side.boundary = {{20, 10}, {10, 15}, {20, 20}};
+  obs.side_faces_left = true;
+  const cv::Mat m = side_photo_mask(obs, {40, 30});
+  ASSERT_EQ(m.size(), cv::Size(40, 30));
+  EXPECT_EQ(cv::countNonZero(m != profile_mask(obs.side, true)), 0);
+  EXPECT_TRUE(side_photo_mask(obs, {80, 60}).empty());  // another photo
+  obs.side.boundary.resize(1);
+  EXPECT_TRUE(side_photo_mask(obs, {40, 30}).empty());  // no profile
+  obs.side = {};
+  EXPECT_TRUE(side_photo_mask(obs, {0, 0}).empty());  // no view at all: no throw
+}
+
 }  // namespace
 }  // namespace orthoface::vision

@@ -1,4 +1,5 @@
-#include "app/pipeline.h"
+// from_photos / from_observation: vision -> scale -> stereo -> adaptation -> texture coordinates.
+#include "reconstruct/reconstruction.h"
 
 #include <algorithm>
 #include <chrono>
@@ -15,9 +16,10 @@
 #include "model/base_mesh.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
+#include "vision/profile_mask.h"
 #include "vision/registration.h"
 
-namespace orthoface::app {
+namespace orthoface::reconstruct {
 namespace {
 
 namespace fs = std::filesystem;
@@ -128,7 +130,7 @@ void ReconstructOptions::check() const {
     throw std::invalid_argument("ReconstructOptions: rig has a camera without an image size");
 }
 
-Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
+Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
                            const ReconstructOptions& options) {
   options.check();
   if (front.empty()) throw std::invalid_argument("front photo is empty");
@@ -136,7 +138,7 @@ Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
   const auto t0 = Clock::now();
   const vision::FaceObservation obs = vision::observe(front, side, options.observe);
   const double observe_ms = ms_since(t0);
-  Reconstruction r = reconstruct_observation(obs, front, side, options);
+  Reconstruction r = from_observation(obs, front, side, options);
   r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});
   r.report.front_landmarker = vision::front_landmarker_name(options.observe.landmarker);
   for (const std::string& w : obs.warnings)
@@ -144,8 +146,8 @@ Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
   return r;
 }
 
-Reconstruction reconstruct_observation(const vision::FaceObservation& obs, const cv::Mat& front,
-                                       const cv::Mat& side, const ReconstructOptions& options) {
+Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Mat& front,
+                                const cv::Mat& side, const ReconstructOptions& options) {
   options.check();
   Reconstruction out;
   out.observation = obs;
@@ -158,6 +160,8 @@ Reconstruction reconstruct_observation(const vision::FaceObservation& obs, const
   } else {
     out.rig = default_rig(obs, out.report.scale_note, out.report.warnings);
   }
+  out.photo_rig = capture::photo_rig(out.rig, obs.side_faces_left);
+  out.side_mask = vision::side_photo_mask(obs, side.size());
   const model::StereoData data = model::stereo_match(obs, out.rig, options.stereo);
   out.report.stage_ms.push_back({"stereo", ms_since(t)});
   t = Clock::now();
@@ -173,4 +177,4 @@ Reconstruction reconstruct_observation(const vision::FaceObservation& obs, const
   return out;
 }
 
-}  // namespace orthoface::app
+}  // namespace orthoface::reconstruct

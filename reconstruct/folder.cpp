@@ -1,4 +1,4 @@
-// write_reconstruction: the reconstruction folder, all files first in DIR.tmp/.
+// The reconstruction folder: written (all files first in DIR.tmp/) and read back, here only.
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -7,12 +7,13 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "app/pipeline.h"
 #include "mesh/mesh_io.h"
+#include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "vision/observation_io.h"
+#include "vision/profile_mask.h"
 
-namespace orthoface::app {
+namespace orthoface::reconstruct {
 namespace {
 
 namespace fs = std::filesystem;
@@ -54,8 +55,7 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"front_landmarker", rep.front_landmarker},
           {"rig_source", r.rig.source},
           // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
-          {"photographed_side_yaw_sign", capture::photographed_side_sign(capture::photo_rig(
-                                             r.rig, r.observation.side_faces_left))},
+          {"photographed_side_yaw_sign", capture::photographed_side_sign(r.photo_rig)},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},
@@ -98,6 +98,41 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   }
 }
 
+Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& options) {
+  const fs::path in(dir);
+  const std::string what = "reconstruction folder " + dir;
+  if (!fs::is_directory(in)) throw std::runtime_error(what + " does not exist");
+  for (const char* name : {"head.obj", "front.png", "side.png"})
+    if (!fs::is_regular_file(in / name)) throw std::runtime_error(what + ": no " + name);
+  Reconstruction r;
+  for (auto [name, image] : {std::pair{"front.png", &r.front}, {"side.png", &r.side}}) {
+    *image = cv::imread((in / name).string(), cv::IMREAD_COLOR);
+    if (image->empty()) throw std::runtime_error(what + ": cannot read image " + name);
+  }
+  mesh::MeshReadOptions ro;
+  ro.load_texture = false;  // head.png is the front photo
+  r.mesh = mesh::read_mesh((in / "head.obj").string(), ro);
+  r.rig = fs::exists(in / "rig.yaml") ? capture::read_rig((in / "rig.yaml").string())
+                                      : capture::ideal_rig(r.front.cols, r.front.rows, 1.6);
+  r.photo_rig = r.rig;
+  if (fs::exists(in / "observation.json")) {
+    r.observation = vision::read_observation((in / "observation.json").string());
+    r.photo_rig = capture::photo_rig(r.rig, r.observation.side_faces_left);
+    r.side_mask = vision::side_photo_mask(r.observation, r.side.size());
+  }
+  if (options.landmarks && fs::exists(in / "landmarks.json"))
+    r.landmarks = read_landmarks((in / "landmarks.json").string());
+  return r;
+}
+
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& r) {
+  if (r.front.empty() || r.side.empty())
+    throw std::invalid_argument("view_synthesizer: the reconstruction has no photos");
+  auto synth = std::make_unique<render::ViewSynthesizer>(r.mesh, r.photo_rig, r.front, r.side);
+  synth->set_photo_masks({}, r.side_mask);
+  return synth;
+}
+
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error("cannot read " + path);
@@ -114,4 +149,4 @@ std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
   return out;
 }
 
-}  // namespace orthoface::app
+}  // namespace orthoface::reconstruct

@@ -1,6 +1,9 @@
+// The photo-pair pipeline: front + side photos -> observation (vision) -> stereo -> adapted mesh
+// (model), and the reconstruction folder, written and read here only.
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -15,7 +18,11 @@
 #include "vision/observation.h"
 #include "vision/observe.h"
 
-namespace orthoface::app {
+namespace orthoface::render {
+class ViewSynthesizer;
+}
+
+namespace orthoface::reconstruct {
 
 // Without a rig file the scale comes from this: the front silhouette's width at eye height is
 // taken to be the generic head's width there (model::generic_half_width, about 150 mm), and the
@@ -43,22 +50,26 @@ struct Reconstruction {
   vision::FaceObservation observation;
   mesh::TriMesh mesh;  // adapted base mesh, head frame mm; uvs into `texture` = the front photo
   std::map<std::string, Eigen::Vector3d> landmarks;  // head frame, mm
-  capture::RigCalibration rig;                       // the rig used (written as rig.yaml)
-  cv::Mat front, side;                               // the photos used
+  capture::RigCalibration rig;  // the rig the model was built with (written as rig.yaml)
+  // Where the photos were really taken (capture::photo_rig): the side camera on the side it
+  // stood, for texturing from the side photo as it is.
+  capture::RigCalibration photo_rig;
+  cv::Mat front, side;  // the photos used
+  cv::Mat side_mask;    // the subject's side of vision's profile (vision::profile_mask); empty
+                        // when the observation has no profile for the side photo
   ReconstructionReport report;
 };
 
 // Front + side photos -> observation (vision) -> stereo -> adapted mesh with the front photo as
 // texture. Throws std::invalid_argument naming the input when the photos are unusable or the
 // observation cannot be reconstructed (no silhouette / profile, inconsistent heights).
-Reconstruction reconstruct(const cv::Mat& front, const cv::Mat& side,
+Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
                            const ReconstructOptions& options = {});
 
 // The same from an observation already made (e.g. sim::truth_observation); photos may be empty
 // (then there is no texture).
-Reconstruction reconstruct_observation(const vision::FaceObservation& observation,
-                                       const cv::Mat& front, const cv::Mat& side,
-                                       const ReconstructOptions& options = {});
+Reconstruction from_observation(const vision::FaceObservation& observation, const cv::Mat& front,
+                                const cv::Mat& side, const ReconstructOptions& options = {});
 
 // Writes the reconstruction folder (DESIGN.md): head.obj head.mtl head.png, front.png,
 // side.png, rig.yaml, landmarks.json, observation.json, report.json. Files are written into
@@ -66,8 +77,23 @@ Reconstruction reconstruct_observation(const vision::FaceObservation& observatio
 // the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 
+// A reconstruction folder read back: mesh (its uvs index `front`; no texture image), photos, rig,
+// observation, the rig as the photos were taken and the side mask, landmarks when landmarks.json is
+// there. The report is not read (report.json is for people). A folder without rig.yaml gets the
+// ideal rig at 1.6 px/mm; without observation.json the side mask is empty and the side camera is
+// taken to stand where the rig says. Throws std::runtime_error naming the folder and the file that
+// is missing or unreadable.
+struct ReadOptions {
+  bool landmarks = true;  // read landmarks.json when it is there (false: leave it unread)
+};
+Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& options = {});
+
+// A view synthesizer loaded with the reconstruction: its mesh, both photos where they were
+// taken, the side mask. Throws std::invalid_argument when the photos are missing.
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction);
+
 // The named landmarks of a landmarks.json that write_reconstruction wrote (head frame, mm).
 // Throws std::runtime_error naming the file when it cannot be read or is malformed.
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path);
 
-}  // namespace orthoface::app
+}  // namespace orthoface::reconstruct

@@ -1,13 +1,13 @@
 // The photo-pair pipeline as a library: how the side photo is registered to the front.
 #include <gtest/gtest.h>
 
-#include "app/pipeline.h"
+#include "reconstruct/reconstruction.h"
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "sim/truth_observation.h"
 #include "vision/landmarks.h"
 
-namespace orthoface::app {
+namespace orthoface::reconstruct {
 namespace {
 
 // A perfect observation of a sim head whose side photo was taken `shift` rows lower (its whole
@@ -24,7 +24,7 @@ vision::FaceObservation shifted_side(double shift) {
 // side photo taken lower is registered by its own features.
 TEST(Pipeline, SidePhotoIsRegisteredByFeaturesFoundInEachPhoto) {
   const vision::FaceObservation obs = shifted_side(18);
-  const Reconstruction r = reconstruct_observation(obs, {}, {});
+  const Reconstruction r = from_observation(obs, {}, {});
   EXPECT_NEAR(r.rig.side.cy - r.rig.front.cy, 18.0, 0.5) << r.report.scale_note;
   EXPECT_NE(r.report.scale_note.find("found in each photo on its own"), std::string::npos);
 }
@@ -40,10 +40,10 @@ TEST(Pipeline, FrontRowsCopiedFromTheProfileCannotRegister) {
     f.px.y = s->second.px.y;
     f.method = "centre-line+profile-row";
   }
-  const Reconstruction r = reconstruct_observation(obs, {}, {});
+  const Reconstruction r = from_observation(obs, {}, {});
   EXPECT_NEAR(r.rig.side.cy - r.rig.front.cy, 0.0, 0.5);
   EXPECT_NE(r.report.scale_note.find("came from the side photo"), std::string::npos);
 }
 
 }  // namespace
-}  // namespace orthoface::app
+}  // namespace orthoface::reconstruct
