@@ -109,11 +109,4 @@ Eigen::Vector3d label_rgb(int i) {
   return rgb + Eigen::Vector3d::Constant(m);
 }
 
-void write_image_atomic(const std::string& path, const cv::Mat& image) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  const std::string tmp = path + ".tmp" + ext;  // keep the extension for the encoder
-  if (!cv::imwrite(tmp, image)) throw std::runtime_error(path + ": cannot write image");
-  std::filesystem::rename(tmp, path);
-}
-
 }  // namespace orthoface::app

@@ -34,7 +34,4 @@ Eigen::Vector3d heat_rgb(double t);
 // A distinct colour for label i (RGB in [0, 1]).
 Eigen::Vector3d label_rgb(int i);
 
-// Writes `image` to `path` through path.tmp + rename; throws std::runtime_error on failure.
-void write_image_atomic(const std::string& path, const cv::Mat& image);
-
 }  // namespace orthoface::app

@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "io/atomic_file.h"
 #include "vision/image_prep.h"
 #include "vision/observation_io.h"
 #include "vision/observe.h"
@@ -34,12 +35,6 @@ const Command kDetect{
       "the network confirms, else the network's; the profile's midline)"},
      {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
     0};
-
-void write_png(const cv::Mat& image, const std::filesystem::path& path) {
-  const std::string tmp = path.string() + ".tmp.png";
-  if (!cv::imwrite(tmp, image)) throw std::runtime_error("cannot write '" + path.string() + "'");
-  std::filesystem::rename(tmp, path);
-}
 
 }  // namespace
 
@@ -75,8 +70,9 @@ int run_detect(int argc, char** argv) {
   const std::filesystem::path out = args.get("out");
   prepare_output_dir(out.string());
   vision::write_observation(obs, (out / "observation.json").string());
-  write_png(vision::overlay_front(front, obs), out / "overlay_front.png");
-  write_png(vision::overlay_side(side, obs), out / "overlay_side.png");
+  io::write_image_atomically((out / "overlay_front.png").string(),
+                             vision::overlay_front(front, obs));
+  io::write_image_atomically((out / "overlay_side.png").string(), vision::overlay_side(side, obs));
   std::string missing;
   const bool complete = vision::is_complete(obs, &missing);
   std::cout << "detect: front boundary " << obs.front.boundary.size() << " points, side profile "

@@ -11,6 +11,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "model/evaluate.h"
 #include "reconstruct/reconstruction.h"
@@ -89,9 +90,7 @@ int run_eval(int argc, char** argv) {
       model::error_colored(rec, model::signed_distances(rec.vertices, truth), range);
   mesh::write_mesh(colored, (dir / "error.ply").string());
   const cv::Mat picture = error_picture(colored, folder.rig.front);
-  const std::string png_tmp = (dir / "error.tmp.png").string();
-  if (!cv::imwrite(png_tmp, picture)) throw std::runtime_error("cannot write " + png_tmp);
-  fs::rename(png_tmp, dir / "error.png");
+  io::write_image_atomically((dir / "error.png").string(), picture);
   const nlohmann::json j = {
       {"relative_error", e.relative},
       {"mean_mm", e.mean_mm},
@@ -104,9 +103,7 @@ int run_eval(int argc, char** argv) {
       {"truth", truth_path.string()},
       {"region",
        {{"y_top", region.y_top}, {"y_bottom", region.y_bottom}, {"z_min", region.z_min}}}};
-  const fs::path json_tmp = dir / "eval.json.tmp";
-  std::ofstream(json_tmp) << j.dump(2) << "\n";
-  fs::rename(json_tmp, dir / "eval.json");
+  io::write_text_atomically((dir / "eval.json").string(), j.dump(2) + "\n");
   std::printf(
       "eval: relative error %.3f%% (mean %.2f mm / diagonal %.1f mm), landmarks %.2f mm "
       "mean over %zu\n",

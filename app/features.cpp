@@ -11,6 +11,7 @@
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 
 namespace orthoface::app {
@@ -60,16 +61,6 @@ nlohmann::json report_json(const mesh::TriMesh& mesh, const analysis::FeatureRep
   return j;
 }
 
-void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
-  const std::string tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error(path.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, path);
-}
-
 cv::Mat picture(const mesh::TriMesh& mesh, const analysis::FeatureReport& r, int size) {
   mesh::TriMesh m;
   m.vertices = mesh.vertices, m.triangles = mesh.triangles;
@@ -116,14 +107,14 @@ int run_features(int argc, char** argv) {
   nlohmann::json j = report_json(mesh, r);
   j["mesh"] = path;
   j["seconds"] = secs;
-  write_text_atomic(dir / "features.json", j.dump(2) + "\n");
+  io::write_text_atomically((dir / "features.json").string(), j.dump(2) + "\n");
   std::string csv = "vertex,cluster,ratio\n";  // seed 000's z_clusters
   for (size_t v = 0; v < mesh.vertices.size(); ++v)
     if (r.cluster[v] >= 0)
       csv += std::to_string(v) + "," + std::to_string(r.cluster[v]) + "," +
              std::to_string(r.ratio[v]) + "\n";
-  write_text_atomic(dir / "clusters.csv", csv);
-  write_image_atomic((dir / "features.png").string(), picture(mesh, r, size));
+  io::write_text_atomically((dir / "clusters.csv").string(), csv);
+  io::write_image_atomically((dir / "features.png").string(), picture(mesh, r, size));
   std::printf("features: %zu points found, %zu missing / notes, %.2f s -> %s\n", r.points.size(),
               r.missing.size(), secs, dir.string().c_str());
   for (const auto& m : r.missing) std::printf("  %s\n", m.c_str());

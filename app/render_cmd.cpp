@@ -15,6 +15,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "capture/camera_model.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
@@ -81,23 +82,8 @@ cv::Scalar parse_color(const std::string& text) {
       text + "'");
 }
 
-// Encodes by extension and writes via path.tmp + rename, so no partial file is left.
 void write_image(const cv::Mat& image, const fs::path& path) {
-  std::vector<uchar> bytes;
-  if (!cv::imencode(path.extension().string(), image, bytes))
-    throw std::runtime_error("cannot encode " + path.string());
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!f) throw std::runtime_error("cannot write " + path.string());
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path.string());
-  }
+  io::write_image_atomically(path.string(), image);
 }
 
 // The view camera (capture::view_camera) with the front camera's model rescaled to the output

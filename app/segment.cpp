@@ -10,6 +10,7 @@
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 
 namespace orthoface::app {
@@ -38,16 +39,6 @@ Eigen::Vector3d parse_xyz(const std::string& flag, const std::string& text) {
   if (!(in >> v.x() >> c1 >> v.y() >> c2 >> v.z()) || c1 != ',' || c2 != ',' || !v.allFinite())
     throw std::invalid_argument("--" + flag + ": expected X,Y,Z, got '" + text + "'");
   return v;
-}
-
-void write_text_atomic(const std::filesystem::path& path, const std::string& text) {
-  const std::string tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    out << text;
-    if (!out) throw std::runtime_error(path.string() + ": cannot write");
-  }
-  std::filesystem::rename(tmp, path);
 }
 
 }  // namespace
@@ -80,9 +71,9 @@ int run_segment(int argc, char** argv) {
     table.push_back(
         {{"fp", p + 1}, {"name", points[p].name}, {"n", s.count[p]}, {"percent", s.percent[p]}});
   }
-  write_text_atomic(dir / "membership.csv", csv);
-  write_text_atomic(
-      dir / "membership.json",
+  io::write_text_atomically((dir / "membership.csv").string(), csv);
+  io::write_text_atomically(
+      (dir / "membership.json").string(),
       nlohmann::json{{"mesh", args.positional[0]}, {"areas", table}, {"label", s.label}}.dump(1) +
           "\n");
   mesh::TriMesh colored;
@@ -91,7 +82,7 @@ int run_segment(int argc, char** argv) {
   mesh::write_mesh(colored, (dir / "areas.ply").string());
   std::vector<Marker> markers;
   for (const auto& p : points) markers.push_back({p.position, p.name});
-  write_image_atomic(
+  io::write_image_atomically(
       (dir / "segment.png").string(),
       render_view(colored,
                   view_camera(colored, -Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(), 600),
@@ -104,7 +95,7 @@ int run_segment(int argc, char** argv) {
         if (s.weights[p][v] > 1e-4) pairs.push_back({v, s.weights[p][v]});
       w[points[p].name] = pairs;
     }
-    write_text_atomic(dir / "weights.json", w.dump() + "\n");
+    io::write_text_atomically((dir / "weights.json").string(), w.dump() + "\n");
   }
   std::printf("segment: %zu vertices into %zu areas -> %s\n", mesh.vertices.size(), points.size(),
               dir.string().c_str());

@@ -9,6 +9,7 @@
 #include "app/analysis_views.h"
 #include "app/cli.h"
 #include "app/commands.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 
 namespace orthoface::app {
@@ -97,13 +98,9 @@ int run_similarity(int argc, char** argv) {
       csv += "\n";
     }
     const auto path = dir / (std::string("similarity_") + kMetrics[k] + ".csv");
-    {
-      std::ofstream out(path.string() + ".tmp");
-      out << csv;
-      if (!out) throw std::runtime_error(path.string() + ": cannot write");
-    }
-    std::filesystem::rename(path.string() + ".tmp", path);
-    if (k == 2) write_image_atomic((dir / "similarity_shape_index.png").string(), heat_map(m));
+    io::write_text_atomically(path.string(), csv);
+    if (k == 2)
+      io::write_image_atomically((dir / "similarity_shape_index.png").string(), heat_map(m));
   }
   std::printf("similarity: %zu meshes -> %s\n", n, dir.string().c_str());
   return 0;

@@ -14,6 +14,7 @@
 #include <string>
 #include <thread>
 
+#include <nlohmann/json.hpp>
 #include <opencv2/highgui.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -23,6 +24,7 @@
 #include "app/station_http.h"
 #include "app/station_output.h"
 #include "capture/pair_capture.h"
+#include "io/atomic_file.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "sim/sim_camera.h"
@@ -276,34 +278,30 @@ void Station::write_summary() {
     if (out_times_[i] > t0_ + 1.0) lat.push_back(latency_s_[i] * 1e3);
   const double mean_lat =
       lat.empty() ? 0 : std::accumulate(lat.begin(), lat.end(), 0.0) / lat.size();
-  std::ostringstream j;
-  j << "{\n  \"duration_s\": " << capture::monotonic_now_s() - t0_
-    << ",\n  \"frames_out\": " << frames_out_
-    << ",\n  \"fps_out\": " << (span > 0 ? (out_times_.size() - 1) / span : 0.0)
-    << ",\n  \"latency_ms\": {\"mean\": " << mean_lat << ", \"p95\": " << percentile(lat, 0.95)
-    << ", \"max\": " << percentile(lat, 1.0)
-    << "},\n  \"skew_ms\": {\"mean\": " << st.skew_mean_s * 1e3
-    << ", \"max\": " << st.skew_max_s * 1e3 << "},\n  \"frames_front\": " << st.frames_front
-    << ", \"frames_side\": " << st.frames_side << ", \"pairs_formed\": " << st.pairs
-    << ",\n  \"dropped_front\": " << st.dropped_front << ", \"dropped_side\": " << st.dropped_side
-    << ", \"unpaired\": " << st.unpaired << ",\n  \"disconnects\": " << st.disconnects
-    << ", \"reconnects\": " << st.reconnects << ", \"fits\": " << fits_
-    << ",\n  \"retexture_every\": " << s_.retexture_every
-    << ", \"set_photos_ms_median\": " << percentile(retexture_ms_, 0.5)
-    << ", \"render_ms_median\": " << percentile(draw_ms_, 0.5) << ",\n  \"pairs_saved\": [";
-  for (size_t i = 0; i < pairs_saved_.size(); ++i)
-    j << (i ? ", " : "") << "\"" << pairs_saved_[i] << "\"";
-  j << "],\n  \"events\": [";
-  for (size_t i = 0; i < events_.size(); ++i) {
-    std::string e = events_[i];
-    std::replace(e.begin(), e.end(), '"', '\'');
-    j << (i ? ",\n    " : "\n    ") << "\"" << e << "\"";
-  }
-  j << "]\n}\n";
-  const std::string path = s_.out + "/station_summary.json";
-  std::ofstream(path + ".tmp") << j.str();
-  std::filesystem::rename(path + ".tmp", path);
-  std::cout << j.str();
+  const nlohmann::json j = {
+      {"duration_s", capture::monotonic_now_s() - t0_},
+      {"frames_out", frames_out_},
+      {"fps_out", span > 0 ? (out_times_.size() - 1) / span : 0.0},
+      {"latency_ms",
+       {{"mean", mean_lat}, {"p95", percentile(lat, 0.95)}, {"max", percentile(lat, 1.0)}}},
+      {"skew_ms", {{"mean", st.skew_mean_s * 1e3}, {"max", st.skew_max_s * 1e3}}},
+      {"frames_front", st.frames_front},
+      {"frames_side", st.frames_side},
+      {"pairs_formed", st.pairs},
+      {"dropped_front", st.dropped_front},
+      {"dropped_side", st.dropped_side},
+      {"unpaired", st.unpaired},
+      {"disconnects", st.disconnects},
+      {"reconnects", st.reconnects},
+      {"fits", fits_},
+      {"retexture_every", s_.retexture_every},
+      {"set_photos_ms_median", percentile(retexture_ms_, 0.5)},
+      {"render_ms_median", percentile(draw_ms_, 0.5)},
+      {"pairs_saved", pairs_saved_},
+      {"events", events_}};
+  const std::string text = j.dump(2) + "\n";
+  io::write_text_atomically(s_.out + "/station_summary.json", text);
+  std::cout << text;
 }
 
 int Station::run() {

@@ -15,6 +15,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/atomic_file.h"
 #include "sim/rig.h"
 
 namespace orthoface::app {
@@ -22,25 +23,31 @@ namespace orthoface::app {
 std::string save_pair(const capture::FramePair& pair, const std::string& dir) {
   namespace fs = std::filesystem;
   if (fs::exists(dir)) throw std::runtime_error("pair folder " + dir + " already exists");
-  const std::string tmp = dir + ".tmp";
-  fs::remove_all(tmp);
-  fs::create_directories(tmp);
-  for (const auto& [name, frame] : {std::pair{"front.png", &pair.front}, {"side.png", &pair.side}})
-    if (!cv::imwrite(tmp + "/" + name, frame->image))
-      throw std::runtime_error("cannot write " + tmp + "/" + name);
-  std::ofstream json(tmp + "/pair.json");
-  char text[512];
-  std::snprintf(
-      text, sizeof(text),
-      "{\n  \"front\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n"
-      "  \"side\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n  \"skew_ms\": %.3f\n}\n",
-      pair.front.timestamp_s, static_cast<unsigned long long>(pair.front.sequence),
-      pair.side.timestamp_s, static_cast<unsigned long long>(pair.side.sequence),
-      pair.skew_s * 1e3);
-  json << text;
-  json.close();
-  if (!json) throw std::runtime_error("cannot write " + tmp + "/pair.json");
-  fs::rename(tmp, dir);
+  const std::string tmp = io::temp_path_for(dir);
+  try {
+    fs::create_directories(tmp);
+    for (const auto& [name, frame] :
+         {std::pair{"front.png", &pair.front}, {"side.png", &pair.side}})
+      if (!cv::imwrite(tmp + "/" + name, frame->image))
+        throw std::runtime_error("cannot write " + tmp + "/" + name);
+    std::ofstream json(tmp + "/pair.json");
+    char text[512];
+    std::snprintf(
+        text, sizeof(text),
+        "{\n  \"front\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n"
+        "  \"side\": {\"timestamp_s\": %.6f, \"sequence\": %llu},\n  \"skew_ms\": %.3f\n}\n",
+        pair.front.timestamp_s, static_cast<unsigned long long>(pair.front.sequence),
+        pair.side.timestamp_s, static_cast<unsigned long long>(pair.side.sequence),
+        pair.skew_s * 1e3);
+    json << text;
+    json.close();
+    if (!json) throw std::runtime_error("cannot write " + tmp + "/pair.json");
+    fs::rename(tmp, dir);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(tmp, ec);
+    throw;
+  }
   return dir;
 }
 

@@ -11,9 +11,9 @@
 
 namespace orthoface::app {
 
-// Writes a pair as DIR/front.png, DIR/side.png, DIR/pair.json (timestamps, sequence, skew), into
-// DIR.tmp first and renamed to DIR when complete. Returns DIR. Throws std::runtime_error naming
-// the file that failed; DIR must not exist yet.
+// Writes a pair as DIR/front.png, DIR/side.png, DIR/pair.json (timestamps, sequence, skew), into a
+// staging folder beside DIR first (io::temp_path_for), renamed to DIR when complete. Returns DIR.
+// Throws std::runtime_error naming the file that failed; DIR must not exist yet.
 std::string save_pair(const capture::FramePair& pair, const std::string& dir);
 
 // Throws std::runtime_error when no display is available (DISPLAY / WAYLAND_DISPLAY unset), since

@@ -10,6 +10,8 @@
 
 #include <opencv2/core/eigen.hpp>
 
+#include "io/atomic_file.h"
+
 namespace orthoface::capture {
 namespace {
 
@@ -215,26 +217,20 @@ RigCalibration ideal_rig(int width, int height, double px_per_mm) {
 }
 
 void write_rig(const RigCalibration& rig, const std::string& path) {
-  const std::string tmp = path + ".tmp.yaml";
   // Checked here so OpenCV does not log its own error line before we throw.
   const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
   if (!std::filesystem::is_directory(parent))
     throw std::runtime_error("cannot write rig file " + path + ": folder " + parent.string() +
                              " does not exist");
-  {
+  io::write_atomically(path, [&](const std::string& tmp) {
     cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
-    if (!fs.isOpened()) throw std::runtime_error("cannot write rig file " + path);
+    if (!fs.isOpened()) throw std::runtime_error("cannot open a file in its folder");
     fs << "orthoface_rig" << 1;
     fs << "source" << rig.source;
     write_camera(fs, "front", rig.front);
     write_camera(fs, "side", rig.side);
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write rig file " + path + ": rename failed");
-  }
+    fs.release();
+  });
 }
 
 RigCalibration read_rig(const std::string& path) {

@@ -82,8 +82,8 @@ double photographed_side_sign(const RigCalibration& photo_rig);
 RigCalibration ideal_rig(int width, int height, double px_per_mm);
 
 // OpenCV FileStorage YAML (the format `reconstruct --rig` reads and `simulate` / `calibrate`
-// write). write_rig writes to path.tmp and renames. read_rig throws std::runtime_error naming the
-// file and the missing or malformed field.
+// write). write_rig writes all or nothing (io/atomic_file.h). read_rig throws std::runtime_error
+// naming the file and the missing or malformed field.
 void write_rig(const RigCalibration& rig, const std::string& path);
 RigCalibration read_rig(const std::string& path);
 

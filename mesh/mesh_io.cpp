@@ -68,15 +68,6 @@ void validate_read(const TriMesh& mesh, const std::string& path) {
   fail(path, "all " + std::to_string(mesh.triangles.size()) + " triangles have zero area");
 }
 
-void commit(const std::string& tmp, const std::string& path) {
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error(path + ": cannot rename the finished file into place");
-  }
-}
-
 namespace {
 
 // Parses a double; rejects trailing garbage. NaN / inf parse and are caught by validate_read.

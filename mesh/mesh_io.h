@@ -30,8 +30,9 @@ struct MeshWriteOptions {
 
 // Writes .obj (+ <stem>.mtl and <stem>.png when the mesh has a texture and uvs), .ply (colours
 // as uchar red/green/blue, uvs as float s t) or .off (COFF with colours). Every file is written
-// to <name>.tmp and renamed, so a failure leaves no partial output. Throws std::invalid_argument
-// for an invalid mesh (check_mesh) and std::runtime_error for an unknown extension or IO error.
+// to a temporary beside it (io::temp_path_for) and renamed, so a failure leaves no partial output.
+// Throws std::invalid_argument for an invalid mesh (check_mesh) and std::runtime_error for an
+// unknown extension or IO error.
 void write_mesh(const TriMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});
 
 }  // namespace orthoface::mesh

@@ -24,9 +24,6 @@ cv::Mat load_texture(const std::string& image_path, const std::string& mesh_path
 // at least one triangle of non-zero area. Throws fail(path, ...).
 void validate_read(const TriMesh& mesh, const std::string& path);
 
-// Renames tmp onto path (after a successful write); throws naming path.
-void commit(const std::string& tmp, const std::string& path);
-
 TriMesh read_obj(const std::string& path, const MeshReadOptions& options);
 TriMesh read_off(const std::string& path);
 TriMesh read_ply(const std::string& path, const MeshReadOptions& options);

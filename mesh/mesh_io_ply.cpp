@@ -12,6 +12,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/atomic_file.h"
 #include "mesh/mesh_io_detail.h"
 
 namespace orthoface::mesh::io {
@@ -287,60 +288,50 @@ void write_ply(const TriMesh& mesh, const std::string& path, bool binary) {
   const std::filesystem::path p(path);
   const bool textured = !mesh.texture.empty() && !mesh.uvs.empty();
   const std::string stem = p.stem().string();
-  if (textured) {
-    const std::string png = (p.parent_path() / (stem + ".png")).string();
-    const std::string tmp = (p.parent_path() / (stem + ".tmp.png")).string();
-    if (!cv::imwrite(tmp, mesh.texture)) fail(png, "cannot write texture image");
-    commit(tmp, png);
-  }
-  const std::string tmp = path + ".tmp";
-  std::ofstream out(tmp, std::ios::binary);
-  if (!out) fail(path, "cannot open " + tmp + " for writing");
-  const bool colors = !mesh.colors.empty(), uvs = !mesh.uvs.empty();
-  out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
-      << "comment orthoface mesh\n";
-  if (textured) out << "comment TextureFile " << stem << ".png\n";
-  out << "element vertex " << mesh.vertices.size()
-      << "\nproperty float x\nproperty float y\nproperty float z\n";
-  if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  if (uvs) out << "property float s\nproperty float t\n";
-  out << "element face " << mesh.triangles.size()
-      << "\nproperty list uchar int vertex_indices\nend_header\n";
-  auto put = [&](auto v) {
-    if (binary) {
-      if constexpr (std::endian::native == std::endian::big) {
-        unsigned char b[sizeof(v)];
-        std::memcpy(b, &v, sizeof(v));
-        std::reverse(b, b + sizeof(v));
-        out.write(reinterpret_cast<const char*>(b), sizeof(v));
+  if (textured)
+    orthoface::io::write_image_atomically((p.parent_path() / (stem + ".png")).string(),
+                                          mesh.texture);
+  orthoface::io::write_stream_atomically(path, [&](std::ostream& out) {
+    const bool colors = !mesh.colors.empty(), uvs = !mesh.uvs.empty();
+    out << "ply\nformat " << (binary ? "binary_little_endian" : "ascii") << " 1.0\n"
+        << "comment orthoface mesh\n";
+    if (textured) out << "comment TextureFile " << stem << ".png\n";
+    out << "element vertex " << mesh.vertices.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (colors) out << "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    if (uvs) out << "property float s\nproperty float t\n";
+    out << "element face " << mesh.triangles.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    auto put = [&](auto v) {
+      if (binary) {
+        if constexpr (std::endian::native == std::endian::big) {
+          unsigned char b[sizeof(v)];
+          std::memcpy(b, &v, sizeof(v));
+          std::reverse(b, b + sizeof(v));
+          out.write(reinterpret_cast<const char*>(b), sizeof(v));
+        } else {
+          out.write(reinterpret_cast<const char*>(&v), sizeof(v));
+        }
       } else {
-        out.write(reinterpret_cast<const char*>(&v), sizeof(v));
+        out << +v << ' ';
       }
-    } else {
-      out << +v << ' ';
+    };
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      for (int k = 0; k < 3; ++k) put(static_cast<float>(mesh.vertices[i][k]));
+      if (colors)
+        for (int k = 0; k < 3; ++k)
+          put(static_cast<std::uint8_t>(
+              std::lround(std::clamp(mesh.colors[i][k], 0.0, 1.0) * 255)));
+      if (uvs)
+        for (int k = 0; k < 2; ++k) put(static_cast<float>(mesh.uvs[i][k]));
+      if (!binary) out << '\n';
     }
-  };
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    for (int k = 0; k < 3; ++k) put(static_cast<float>(mesh.vertices[i][k]));
-    if (colors)
-      for (int k = 0; k < 3; ++k)
-        put(static_cast<std::uint8_t>(std::lround(std::clamp(mesh.colors[i][k], 0.0, 1.0) * 255)));
-    if (uvs)
-      for (int k = 0; k < 2; ++k) put(static_cast<float>(mesh.uvs[i][k]));
-    if (!binary) out << '\n';
-  }
-  for (const auto& t : mesh.triangles) {
-    put(static_cast<std::uint8_t>(3));
-    for (int k = 0; k < 3; ++k) put(static_cast<std::int32_t>(t[k]));
-    if (!binary) out << '\n';
-  }
-  out.close();
-  if (!out) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    fail(path, "write failed (disk full?)");
-  }
-  commit(tmp, path);
+    for (const auto& t : mesh.triangles) {
+      put(static_cast<std::uint8_t>(3));
+      for (int k = 0; k < 3; ++k) put(static_cast<std::int32_t>(t[k]));
+      if (!binary) out << '\n';
+    }
+  });
 }
 
 }  // namespace orthoface::mesh::io

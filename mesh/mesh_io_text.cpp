@@ -8,6 +8,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/atomic_file.h"
 #include "mesh/mesh_io_detail.h"
 
 namespace orthoface::mesh::io {
@@ -34,22 +35,6 @@ double number(const std::string& s, const std::string& path, size_t line_no) {
   if (s.empty() || end != s.c_str() + s.size())
     fail(path, "line " + std::to_string(line_no) + ": '" + s + "' is not a number");
   return v;
-}
-
-std::ofstream open_tmp(const std::string& tmp, const std::string& path) {
-  std::ofstream out(tmp, std::ios::binary);
-  if (!out) fail(path, "cannot open " + tmp + " for writing");
-  return out;
-}
-
-void close_and_commit(std::ofstream& out, const std::string& tmp, const std::string& path) {
-  out.close();
-  if (!out) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    fail(path, "write failed (disk full?)");
-  }
-  commit(tmp, path);
 }
 
 }  // namespace
@@ -111,66 +96,63 @@ void write_obj(const TriMesh& mesh, const std::string& path) {
   const std::string stem = p.stem().string();
   const bool textured = !mesh.texture.empty() && !mesh.uvs.empty();
   if (textured) {
-    const std::string png = (p.parent_path() / (stem + ".png")).string();
-    const std::string png_tmp = (p.parent_path() / (stem + ".tmp.png")).string();
-    if (!cv::imwrite(png_tmp, mesh.texture)) fail(png, "cannot write texture image");
-    commit(png_tmp, png);
-    const std::string mtl = (p.parent_path() / (stem + ".mtl")).string();
-    std::ofstream m = open_tmp(mtl + ".tmp", mtl);
-    m << "newmtl skin\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd " << stem << ".png\n";
-    close_and_commit(m, mtl + ".tmp", mtl);
+    orthoface::io::write_image_atomically((p.parent_path() / (stem + ".png")).string(),
+                                          mesh.texture);
+    orthoface::io::write_text_atomically(
+        (p.parent_path() / (stem + ".mtl")).string(),
+        "newmtl skin\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd " + stem + ".png\n");
   }
-  std::ofstream out = open_tmp(path + ".tmp", path);
-  char buf[160];
-  out << "# orthoface mesh: " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
-      << " triangles\n";
-  if (textured) out << "mtllib " << stem << ".mtl\nusemtl skin\n";
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const auto& v = mesh.vertices[i];
-    if (mesh.colors.empty()) {
-      std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
-    } else {
-      const auto& c = mesh.colors[i];
-      std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g %.6g %.6g %.6g\n", v.x(), v.y(), v.z(),
-                    c.x(), c.y(), c.z());
+  orthoface::io::write_stream_atomically(path, [&](std::ostream& out) {
+    char buf[160];
+    out << "# orthoface mesh: " << mesh.vertices.size() << " vertices, " << mesh.triangles.size()
+        << " triangles\n";
+    if (textured) out << "mtllib " << stem << ".mtl\nusemtl skin\n";
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const auto& v = mesh.vertices[i];
+      if (mesh.colors.empty()) {
+        std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g\n", v.x(), v.y(), v.z());
+      } else {
+        const auto& c = mesh.colors[i];
+        std::snprintf(buf, sizeof(buf), "v %.9g %.9g %.9g %.6g %.6g %.6g\n", v.x(), v.y(), v.z(),
+                      c.x(), c.y(), c.z());
+      }
+      out << buf;
     }
-    out << buf;
-  }
-  for (const auto& uv : mesh.uvs) {
-    std::snprintf(buf, sizeof(buf), "vt %.9g %.9g\n", uv.x(), uv.y());
-    out << buf;
-  }
-  const bool with_uv = !mesh.uvs.empty();
-  for (const auto& t : mesh.triangles) {
-    out << 'f';
-    for (int k = 0; k < 3; ++k) {
-      out << ' ' << t[k] + 1;
-      if (with_uv) out << '/' << t[k] + 1;
+    for (const auto& uv : mesh.uvs) {
+      std::snprintf(buf, sizeof(buf), "vt %.9g %.9g\n", uv.x(), uv.y());
+      out << buf;
     }
-    out << '\n';
-  }
-  close_and_commit(out, path + ".tmp", path);
+    const bool with_uv = !mesh.uvs.empty();
+    for (const auto& t : mesh.triangles) {
+      out << 'f';
+      for (int k = 0; k < 3; ++k) {
+        out << ' ' << t[k] + 1;
+        if (with_uv) out << '/' << t[k] + 1;
+      }
+      out << '\n';
+    }
+  });
 }
 
 void write_off(const TriMesh& mesh, const std::string& path) {
-  std::ofstream out = open_tmp(path + ".tmp", path);
-  const bool colors = !mesh.colors.empty();
-  out << (colors ? "COFF\n" : "OFF\n") << mesh.vertices.size() << ' ' << mesh.triangles.size()
-      << " 0\n";
-  char buf[160];
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const auto& v = mesh.vertices[i];
-    std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g", v.x(), v.y(), v.z());
-    out << buf;
-    if (colors) {
-      const Eigen::Vector3d c = (mesh.colors[i].cwiseMax(0).cwiseMin(1) * 255).array().round();
-      out << ' ' << static_cast<int>(c.x()) << ' ' << static_cast<int>(c.y()) << ' '
-          << static_cast<int>(c.z()) << " 255";
+  orthoface::io::write_stream_atomically(path, [&](std::ostream& out) {
+    const bool colors = !mesh.colors.empty();
+    out << (colors ? "COFF\n" : "OFF\n") << mesh.vertices.size() << ' ' << mesh.triangles.size()
+        << " 0\n";
+    char buf[160];
+    for (size_t i = 0; i < mesh.vertices.size(); ++i) {
+      const auto& v = mesh.vertices[i];
+      std::snprintf(buf, sizeof(buf), "%.9g %.9g %.9g", v.x(), v.y(), v.z());
+      out << buf;
+      if (colors) {
+        const Eigen::Vector3d c = (mesh.colors[i].cwiseMax(0).cwiseMin(1) * 255).array().round();
+        out << ' ' << static_cast<int>(c.x()) << ' ' << static_cast<int>(c.y()) << ' '
+            << static_cast<int>(c.z()) << " 255";
+      }
+      out << '\n';
     }
-    out << '\n';
-  }
-  for (const auto& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
-  close_and_commit(out, path + ".tmp", path);
+    for (const auto& t : mesh.triangles) out << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+  });
 }
 
 }  // namespace orthoface::mesh::io

@@ -1,4 +1,5 @@
-// The reconstruction folder: written (all files first in DIR.tmp/) and read back, here only.
+// The reconstruction folder: written (all files first in a staging folder beside it) and read back,
+// here only.
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
@@ -76,9 +78,8 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   const fs::path out(dir);
   if (fs::exists(out) && !fs::is_directory(out))
     throw std::runtime_error("output " + dir + " exists and is not a folder");
-  const fs::path tmp = out.string() + ".tmp";
+  const fs::path tmp = io::temp_path_for(out.string());
   std::error_code ec;
-  fs::remove_all(tmp, ec);
   try {
     fs::create_directories(tmp);
     mesh::write_mesh(r.mesh, (tmp / "head.obj").string());

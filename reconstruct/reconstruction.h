@@ -72,8 +72,9 @@ Reconstruction from_observation(const vision::FaceObservation& observation, cons
                                 const cv::Mat& side, const ReconstructOptions& options = {});
 
 // Writes the reconstruction folder (DESIGN.md): head.obj head.mtl head.png, front.png,
-// side.png, rig.yaml, landmarks.json, observation.json, report.json. Files are written into
-// DIR.tmp/ first and moved into DIR only when all succeeded. Throws std::runtime_error naming
+// side.png, rig.yaml, landmarks.json, observation.json, report.json. Files are written into a
+// hidden staging folder beside DIR (io::temp_path_for) and moved into DIR only when all
+// succeeded. Throws std::runtime_error naming
 // the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 

@@ -9,6 +9,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/atomic_file.h"
+
 namespace orthoface::render {
 namespace {
 
@@ -123,23 +125,7 @@ void write_png(const cv::Mat& image, const std::string& path) {
   std::vector<uchar> bytes;
   if (!cv::imencode(".png", image, bytes))
     throw std::runtime_error("write_png: cannot encode " + path + " as PNG");
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    if (!f) throw std::runtime_error("cannot write " + path);
-    f.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-    if (!f) {
-      f.close();
-      std::filesystem::remove(tmp);
-      throw std::runtime_error("cannot write " + path + " (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write " + path + ": " + ec.message());
-  }
+  io::write_text_atomically(path, std::string(bytes.begin(), bytes.end()));
 }
 
 }  // namespace orthoface::render

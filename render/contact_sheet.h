@@ -32,7 +32,8 @@ struct ContactSheetOptions {
 // 16384 px per side.
 cv::Mat contact_sheet(const std::vector<Tile>& tiles, const ContactSheetOptions& options = {});
 
-// Writes `image` as PNG via path.tmp + rename. Throws std::runtime_error naming the path.
+// Writes `image` as PNG all or nothing (io::write_text_atomically). Throws std::runtime_error
+// naming the path.
 void write_png(const cv::Mat& image, const std::string& path);
 
 }  // namespace orthoface::render

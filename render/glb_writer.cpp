@@ -12,6 +12,7 @@
 
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/atomic_file.h"
 #include "render/textured_export.h"
 
 namespace orthoface::render {
@@ -119,26 +120,13 @@ void write_glb(const mesh::TriMesh& m, const std::string& path) {
   const uint32_t header[3] = {0x46546C67u, 2u, uint32_t(12 + 8 + json.size() + 8 + bin.size())};
   const uint32_t json_head[2] = {uint32_t(json.size()), 0x4E4F534Au};
   const uint32_t bin_head[2] = {uint32_t(bin.size()), 0x004E4942u};
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
+  io::write_stream_atomically(path, [&](std::ostream& f) {
     f.write(reinterpret_cast<const char*>(header), 12);
     f.write(reinterpret_cast<const char*>(json_head), 8);
     f.write(json.data(), std::streamsize(json.size()));
     f.write(reinterpret_cast<const char*>(bin_head), 8);
     f.write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw std::runtime_error("write_glb: cannot write " + path);
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("write_glb: cannot write " + path);
-  }
+  });
 }
 
 }  // namespace orthoface::render

@@ -39,8 +39,9 @@ mesh::TriMesh inherit_vertex_colours(const mesh::TriMesh& mesh, const capture::R
 
 // Binary glTF 2.0 with the texture embedded as PNG: POSITION (metres, = mm / 1000, glTF's unit;
 // head frame axes match glTF's +y up, +z front), NORMAL, TEXCOORD_0 (v flipped to glTF's top
-// origin), uint32 indices, one unlit-looking PBR material. Written via path.tmp + rename.
-// Throws std::invalid_argument if the mesh has no uvs / texture, std::runtime_error on IO errors.
+// origin), uint32 indices, one unlit-looking PBR material. Written all or nothing
+// (io/atomic_file.h). Throws std::invalid_argument if the mesh has no uvs / texture,
+// std::runtime_error on IO errors.
 void write_glb(const mesh::TriMesh& textured, const std::string& path);
 
 }  // namespace orthoface::render

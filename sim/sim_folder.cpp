@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/camera_model.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "sim/truth_json.h"
 
@@ -18,20 +19,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The files of one write, staged as name.tmp; commit() renames them all, the destructor removes
-// whatever was not committed.
+// The files of one write, each staged under a temporary name beside it (io::temp_path_for);
+// commit() renames them all, the destructor removes whatever was not committed.
 class Staging {
  public:
   explicit Staging(fs::path dir) : dir_(std::move(dir)) {}
   ~Staging() {
     std::error_code ec;
-    for (const auto& name : names_) fs::remove(tmp(name), ec);
+    for (const auto& [name, tmp] : files_) fs::remove(tmp, ec);
   }
-  fs::path tmp(const std::string& name) const { return dir_ / (name + ".tmp"); }
-  // Registers `name` and returns its tmp path, for writers that write files themselves.
+  // Registers `name` and returns its temporary path, for writers that write files themselves.
   fs::path add(const std::string& name) {
-    names_.push_back(name);
-    return tmp(name);
+    files_.emplace_back(name, io::temp_path_for((dir_ / name).string()));
+    return files_.back().second;
   }
   void text(const std::string& name, const std::string& content) {
     std::ofstream f(add(name), std::ios::binary);
@@ -47,25 +47,24 @@ class Staging {
     if (!f) throw std::runtime_error("cannot write " + (dir_ / name).string());
   }
   void commit() {
-    for (const auto& name : names_) {
+    for (const auto& [name, tmp] : files_) {
       std::error_code ec;
-      fs::rename(tmp(name), dir_ / name, ec);
+      fs::rename(tmp, dir_ / name, ec);
       if (ec)
         throw std::runtime_error("cannot write " + (dir_ / name).string() + ": " + ec.message());
     }
-    names_.clear();
+    files_.clear();
   }
 
  private:
   fs::path dir_;
-  std::vector<std::string> names_;
+  std::vector<std::pair<std::string, fs::path>> files_;  // name, its temporary
 };
 
 // Stages truth.obj (+ truth.mtl, truth.png) written by mesh::write_mesh into a scratch folder.
 void stage_mesh(Staging& st, const fs::path& dir, const mesh::TriMesh& mesh) {
-  const fs::path scratch = dir / ".truth_mesh.tmp";
+  const fs::path scratch = io::temp_path_for((dir / "truth_mesh").string());
   std::error_code ec;
-  fs::remove_all(scratch, ec);
   if (!fs::create_directory(scratch, ec))
     throw std::runtime_error("cannot write " + (dir / "truth.obj").string() + ": " + ec.message());
   try {

@@ -14,8 +14,9 @@ namespace orthoface::sim {
 //   truth.obj truth.mtl truth.png the true mesh (mesh::write_mesh; head frame, mm)
 //   landmarks.json                the truth (schema in sim/truth_json.h)
 //   rig.yaml                      the NOMINAL rig (capture::write_rig; `reconstruct --rig`)
-// Every file goes to name.tmp first; only when all are written are they renamed, so a failure
-// leaves no partial set (the tmp files are removed). Throws std::runtime_error naming the file.
+// Every file goes to a temporary beside it first; only when all are written are they renamed, so a
+// failure leaves no partial set (the tmp files are removed). Throws std::runtime_error naming the
+// file.
 void write_simulation(const std::string& dir, const Head& head, const Capture& capture,
                       const RigOptions& options);
 

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "io/atomic_file.h"
+
 namespace orthoface::sim {
 namespace {
 
@@ -247,19 +249,7 @@ void write_truth_json(const Truth& truth, const std::string& path) {
       {"options", options_json(truth.options)},
       {"cameras", {{"true", rig_json(truth.true_rig)}, {"nominal", rig_json(truth.nominal_rig)}}},
       {"landmarks", lm}};
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error("cannot write truth file " + path);
-    f << readable_dump(j) << "\n";
-    if (!f) throw std::runtime_error("cannot write truth file " + path + " (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("cannot write truth file " + path + ": rename failed");
-  }
+  io::write_text_atomically(path, readable_dump(j) + "\n");
 }
 
 Truth read_truth_json(const std::string& path) {

@@ -39,8 +39,8 @@ struct Truth {
 Truth make_truth(const Capture& capture, const RigOptions& options, const std::string& subject,
                  const std::string& mesh_file);
 
-// Writes the schema above to path.tmp then renames. Throws std::runtime_error when the file
-// cannot be written.
+// Writes the schema above to a temporary beside it, then renames. Throws std::runtime_error when
+// the file cannot be written.
 void write_truth_json(const Truth& truth, const std::string& path);
 
 // Reads a file written by write_truth_json. Throws std::runtime_error naming the file and the

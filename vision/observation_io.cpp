@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "io/atomic_file.h"
 #include "vision/landmarks.h"
 
 namespace orthoface::vision {
@@ -118,17 +119,7 @@ FaceObservation observation_from_json(const json& j) {
 }
 
 void write_observation(const FaceObservation& obs, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw std::runtime_error("observation file '" + path + "': cannot be written");
-    f << to_json(obs).dump(1) << "\n";
-    if (!f) throw std::runtime_error("observation file '" + path + "': write failed");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec)
-    throw std::runtime_error("observation file '" + path + "': cannot rename: " + ec.message());
+  io::write_text_atomically(path, to_json(obs).dump(1) + "\n");
 }
 
 FaceObservation read_observation(const std::string& path) {

@@ -18,8 +18,8 @@ nlohmann::json to_json(const FaceObservation& obs);
 // that is not in vision/landmarks.h.
 FaceObservation observation_from_json(const nlohmann::json& j);
 
-// observation.json writer (path.tmp, then renamed) and reader. Throw std::runtime_error naming
-// the file when it cannot be written / read / parsed.
+// observation.json writer (all or nothing, io/atomic_file.h) and reader. Throw std::runtime_error
+// naming the file when it cannot be written / read / parsed.
 void write_observation(const FaceObservation& obs, const std::string& path);
 FaceObservation read_observation(const std::string& path);
 
