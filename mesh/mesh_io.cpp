@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -31,6 +32,10 @@ std::string read_bytes(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail(path, "file does not exist");
   if (std::filesystem::is_directory(path, ec)) fail(path, "is a directory, not a mesh file");
+  // A device or pipe (e.g. /dev/zero named by a material or buffer) could be read forever.
+  if (!std::filesystem::is_regular_file(path, ec)) fail(path, "is not a regular file");
+  constexpr std::uintmax_t kMaxBytes = std::uintmax_t(1) << 30;
+  if (std::filesystem::file_size(path, ec) > kMaxBytes) fail(path, "is larger than 1 GiB");
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open file for reading");
   std::ostringstream ss;

@@ -1,13 +1,18 @@
-// glTF 2.0 reading: binary .glb and .gltf with external or data-URI buffers and images.
+// glTF 2.0 reading (.glb and .gltf with external or data-URI buffers and images) through
+// tinygltf (Debian libtinygltf-dev): it parses the container, the JSON and the URIs; this file
+// walks the scene and decodes accessors with every range checked, since tinygltf leaves
+// accessor / buffer-view bounds to the caller.
+#include <tiny_gltf.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <functional>
+#include <limits>
+#include <vector>
 
 #include <Eigen/Geometry>
-#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "mesh/mesh_io_detail.h"
@@ -16,96 +21,52 @@ namespace orthoface::mesh::io {
 
 namespace {
 
-using nlohmann::json;
+constexpr int kMaxNodeDepth = 1000;  // deeper hierarchies are refused, not recursed into
 
-std::string base64_decode(const std::string& s, const std::string& path) {
-  auto val = [](char c) -> int {
-    if (c >= 'A' && c <= 'Z') return c - 'A';
-    if (c >= 'a' && c <= 'z') return c - 'a' + 26;
-    if (c >= '0' && c <= '9') return c - '0' + 52;
-    if (c == '+' || c == '-') return 62;
-    if (c == '/' || c == '_') return 63;
-    return -1;
-  };
-  std::string out;
-  int acc = 0, bits = 0;
-  for (char c : s) {
-    if (c == '=' || std::isspace(static_cast<unsigned char>(c))) continue;
-    const int v = val(c);
-    if (v < 0) fail(path, "bad base64 data in a data URI");
-    acc = (acc << 6) | v;
-    bits += 6;
-    if (bits >= 8) {
-      bits -= 8;
-      out.push_back(static_cast<char>((acc >> bits) & 0xff));
-    }
-  }
-  return out;
+// tinygltf's file access, kept to regular files (no devices, no ~ or $VAR expansion).
+bool file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
 }
-
-std::uint32_t le32(const std::string& b, size_t at) {
-  std::uint32_t v = 0;
-  for (int k = 3; k >= 0; --k) v = (v << 8) | static_cast<unsigned char>(b[at + k]);
-  return v;
-}
-
-// Bytes behind a "uri": a data URI or a file next to the glTF file.
-std::string uri_bytes(const std::string& uri, const std::string& path) {
-  if (uri.rfind("data:", 0) == 0) {
-    const size_t comma = uri.find(',');
-    if (comma == std::string::npos || uri.find(";base64") > comma)
-      fail(path, "unsupported data URI");
-    return base64_decode(uri.substr(comma + 1), path);
-  }
-  return read_bytes((std::filesystem::path(path).parent_path() / uri).string());
-}
-
-class Gltf {
- public:
-  Gltf(const std::string& path, const MeshReadOptions& options) : path_(path), options_(options) {
+std::string expand_path(const std::string& path, void*) { return path; }
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void*) {
+  try {
     const std::string bytes = read_bytes(path);
-    std::string bin;
-    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
-      if (bytes.size() < 20) fail(path, "truncated GLB header");
-      if (le32(bytes, 4) != 2)
-        fail(path, "GLB version " + std::to_string(le32(bytes, 4)) + " (only 2 is supported)");
-      if (le32(bytes, 8) > bytes.size())
-        fail(path, "truncated GLB (header says " + std::to_string(le32(bytes, 8)) + " bytes)");
-      const std::uint32_t jlen = le32(bytes, 12);
-      if (le32(bytes, 16) != 0x4E4F534Au || 20ull + jlen > bytes.size())
-        fail(path, "GLB has no valid JSON chunk");
-      parse(bytes.substr(20, jlen));
-      const size_t b = 20 + ((jlen + 3) & ~3u);
-      if (b + 8 <= bytes.size() && le32(bytes, b + 4) == 0x004E4942u) {
-        const std::uint32_t blen = le32(bytes, b);
-        if (b + 8 + blen > bytes.size()) fail(path, "truncated GLB binary chunk");
-        bin = bytes.substr(b + 8, blen);
-      }
-    } else {
-      parse(bytes);
-    }
-    for (const auto& b : j_.value("buffers", json::array())) {
-      buffers_.push_back(b.contains("uri") ? uri_bytes(b["uri"].get<std::string>(), path) : bin);
-      if (buffers_.back().size() < b.value("byteLength", size_t{0}))
-        fail(path,
-             "buffer " + std::to_string(buffers_.size() - 1) + " is shorter than its byteLength");
-    }
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const std::exception& e) {
+    if (err) *err += e.what();
+    return false;
   }
+}
+bool refuse_write(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+  if (err) *err += "writing is not allowed while reading";
+  return false;
+}
+
+// Images are kept as their encoded bytes; only the base colour texture is decoded (OpenCV).
+bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void*) {
+  image->image.assign(bytes, bytes + size);
+  image->as_is = true;
+  return true;
+}
+
+class Scene {
+ public:
+  Scene(const tinygltf::Model& model, const std::string& path, const MeshReadOptions& options)
+      : g_(model), path_(path), options_(options) {}
 
   TriMesh mesh() {
     TriMesh m;
-    std::function<void(int, const Eigen::Matrix4d&)> visit = [&](int n,
-                                                                 const Eigen::Matrix4d& parent) {
-      const json& node = at("nodes", n);
-      const Eigen::Matrix4d world = parent * local(node);
-      if (node.contains("mesh")) add_mesh(m, node["mesh"].get<int>(), world);
-      for (const auto& c : node.value("children", json::array())) visit(c.get<int>(), world);
-    };
-    if (j_.contains("scenes") && j_.contains("nodes")) {
-      for (const auto& n : at("scenes", j_.value("scene", 0)).value("nodes", json::array()))
-        visit(n.get<int>(), Eigen::Matrix4d::Identity());
+    if (!g_.scenes.empty() && !g_.nodes.empty()) {
+      const int s = g_.defaultScene >= 0 ? g_.defaultScene : 0;
+      check_index(s, g_.scenes.size(), "scenes");
+      std::vector<char> on_path(g_.nodes.size(), 0);
+      for (int n : g_.scenes[s].nodes) visit(m, n, Eigen::Matrix4d::Identity(), on_path, 0);
     } else {
-      for (size_t k = 0; k < j_.value("meshes", json::array()).size(); ++k)
+      for (size_t k = 0; k < g_.meshes.size(); ++k)
         add_mesh(m, static_cast<int>(k), Eigen::Matrix4d::Identity());
     }
     if (!any_uv_) m.uvs.clear();
@@ -120,145 +81,125 @@ class Gltf {
   }
 
  private:
-  void parse(const std::string& text) {
-    try {
-      j_ = json::parse(text);
-    } catch (const json::exception& e) {
-      fail(path_, std::string("invalid glTF JSON: ") + e.what());
-    }
-    if (!j_.is_object()) fail(path_, "glTF JSON is not an object");
-  }
-
-  const json& at(const char* array, int index) const {
-    if (!j_.contains(array) || !j_[array].is_array() || index < 0 ||
-        index >= static_cast<int>(j_[array].size()))
+  void check_index(int index, size_t size, const char* array) const {
+    if (index < 0 || static_cast<size_t>(index) >= size)
       fail(path_, std::string("reference to ") + array + "[" + std::to_string(index) +
                       "] which does not exist");
-    return j_[array][index];
   }
 
-  static Eigen::Matrix4d local(const json& node) {
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    if (node.contains("matrix")) {
-      const auto v = node["matrix"].get<std::vector<double>>();
-      if (v.size() == 16) m = Eigen::Map<const Eigen::Matrix4d>(v.data());  // column-major
-      return m;
-    }
+  void visit(TriMesh& m, int n, const Eigen::Matrix4d& parent, std::vector<char>& on_path,
+             int depth) {
+    check_index(n, g_.nodes.size(), "nodes");
+    if (on_path[n]) fail(path_, "node " + std::to_string(n) + " is its own ancestor");
+    if (depth > kMaxNodeDepth)
+      fail(path_, "node hierarchy deeper than " + std::to_string(kMaxNodeDepth));
+    const tinygltf::Node& node = g_.nodes[n];
+    const Eigen::Matrix4d world = parent * local(node);
+    if (node.mesh >= 0) add_mesh(m, node.mesh, world);
+    on_path[n] = 1;
+    for (int c : node.children) visit(m, c, world, on_path, depth + 1);
+    on_path[n] = 0;
+  }
+
+  static Eigen::Matrix4d local(const tinygltf::Node& node) {
+    if (node.matrix.size() == 16)
+      return Eigen::Map<const Eigen::Matrix4d>(node.matrix.data());  // column-major
     Eigen::Affine3d a = Eigen::Affine3d::Identity();
-    if (node.contains("translation")) {
-      const auto t = node["translation"].get<std::vector<double>>();
-      if (t.size() == 3) a.translate(Eigen::Vector3d(t[0], t[1], t[2]));
-    }
-    if (node.contains("rotation")) {
-      const auto q = node["rotation"].get<std::vector<double>>();  // x y z w
-      if (q.size() == 4) a.rotate(Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized());
-    }
-    if (node.contains("scale")) {
-      const auto s = node["scale"].get<std::vector<double>>();
-      if (s.size() == 3) a.scale(Eigen::Vector3d(s[0], s[1], s[2]));
-    }
+    const auto& t = node.translation;
+    if (t.size() == 3) a.translate(Eigen::Vector3d(t[0], t[1], t[2]));
+    const auto& q = node.rotation;  // x y z w
+    if (q.size() == 4) a.rotate(Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized());
+    const auto& s = node.scale;
+    if (s.size() == 3) a.scale(Eigen::Vector3d(s[0], s[1], s[2]));
     return a.matrix();
   }
 
-  // Accessor values as doubles, `comps` per element (normalized integers mapped to [0, 1]).
+  // Accessor values as doubles, `comps` per element (normalized integers mapped to [0, 1] or
+  // [-1, 1]). Every offset, stride and count is checked against its view and buffer without
+  // overflow.
   std::vector<double> accessor(int index, int& comps) const {
-    const json& a = at("accessors", index);
-    if (a.contains("sparse")) fail(path_, "sparse accessors are not supported");
-    static const std::map<std::string, int> ncomp = {
-        {"SCALAR", 1}, {"VEC2", 2}, {"VEC3", 3}, {"VEC4", 4}};
-    const auto it = ncomp.find(a.value("type", ""));
-    if (it == ncomp.end())
-      fail(path_, "accessor " + std::to_string(index) + " has unsupported type");
-    comps = it->second;
-    const int ct = a.value("componentType", 0);
-    const int size = ct == 5126 || ct == 5125   ? 4
-                     : ct == 5123 || ct == 5122 ? 2
-                     : ct == 5121 || ct == 5120 ? 1
-                                                : 0;
-    if (size == 0)
-      fail(path_, "accessor " + std::to_string(index) + " has unsupported componentType " +
-                      std::to_string(ct));
-    const size_t count = a.value("count", size_t{0});
-    const json& view = at("bufferViews", a.value("bufferView", -1));
-    const std::string& buf =
-        buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
-    const size_t stride = view.value("byteStride", size_t{0}) ? view.value("byteStride", size_t{0})
-                                                              : size_t(size) * comps;
-    const size_t start = view.value("byteOffset", size_t{0}) + a.value("byteOffset", size_t{0});
-    const size_t view_end =
-        view.value("byteOffset", size_t{0}) + view.value("byteLength", size_t{0});
-    if (count > 0 &&
-        (start + stride * (count - 1) + size_t(size) * comps > std::min(view_end, buf.size())))
-      fail(path_, "accessor " + std::to_string(index) +
-                      " reads past the end of its buffer (truncated file?)");
-    const bool norm = a.value("normalized", false);
+    check_index(index, g_.accessors.size(), "accessors");
+    const tinygltf::Accessor& a = g_.accessors[index];
+    const std::string what = "accessor " + std::to_string(index);
+    if (a.sparse.isSparse) fail(path_, "sparse accessors are not supported");
+    comps = a.type == TINYGLTF_TYPE_SCALAR ? 1
+            : a.type == TINYGLTF_TYPE_VEC2 ? 2
+            : a.type == TINYGLTF_TYPE_VEC3 ? 3
+            : a.type == TINYGLTF_TYPE_VEC4 ? 4
+                                           : 0;
+    if (comps == 0) fail(path_, what + " has unsupported type");
+    const int ct = a.componentType;
+    const int size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(ct));
+    if (size <= 0 || ct == TINYGLTF_COMPONENT_TYPE_DOUBLE || ct == TINYGLTF_COMPONENT_TYPE_INT)
+      fail(path_, what + " has unsupported componentType " + std::to_string(ct));
+    check_index(a.bufferView, g_.bufferViews.size(), "bufferViews");
+    const tinygltf::BufferView& view = g_.bufferViews[a.bufferView];
+    check_index(view.buffer, g_.buffers.size(), "buffers");
+    const std::vector<unsigned char>& buf = g_.buffers[view.buffer].data;
+    const size_t element = size_t(size) * comps;
+    const size_t stride = view.byteStride ? view.byteStride : element;
+    const size_t count = a.count;
+    // The view must lie inside its buffer and the accessor inside its view.
+    if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset)
+      fail(path_, "buffer view " + std::to_string(a.bufferView) +
+                      " lies past the end of its buffer (truncated file?)");
+    if (stride < element) fail(path_, what + " has a byteStride smaller than its element");
+    const size_t room = view.byteLength;
+    if (count > 0 && (a.byteOffset > room || element > room - a.byteOffset ||
+                      (count - 1) > (room - a.byteOffset - element) / stride))
+      fail(path_, what + " reads past the end of its buffer view (truncated file?)");
+    const unsigned char* base = buf.data() + view.byteOffset + a.byteOffset;
+    const bool norm = a.normalized;
     std::vector<double> out(count * comps);
     for (size_t i = 0; i < count; ++i)
-      for (int c = 0; c < comps; ++c) {
-        const char* p = buf.data() + start + i * stride + size_t(c) * size;
-        double v = 0;
-        switch (ct) {
-          case 5126: {
-            float f;
-            std::memcpy(&f, p, 4);
-            v = f;
-            break;
-          }
-          case 5125: {
-            std::uint32_t u;
-            std::memcpy(&u, p, 4);
-            v = u;
-            if (norm) v /= 4294967295.0;
-            break;
-          }
-          case 5123: {
-            std::uint16_t u;
-            std::memcpy(&u, p, 2);
-            v = u;
-            if (norm) v /= 65535.0;
-            break;
-          }
-          case 5122: {
-            std::int16_t u;
-            std::memcpy(&u, p, 2);
-            v = u;
-            if (norm) v = std::max(v / 32767.0, -1.0);
-            break;
-          }
-          case 5121: {
-            std::uint8_t u;
-            std::memcpy(&u, p, 1);
-            v = u;
-            if (norm) v /= 255.0;
-            break;
-          }
-          default: {
-            std::int8_t u;
-            std::memcpy(&u, p, 1);
-            v = u;
-            if (norm) v = std::max(v / 127.0, -1.0);
-          }
-        }
-        out[i * comps + c] = v;
-      }
+      for (int c = 0; c < comps; ++c)
+        out[i * comps + c] = component(base + i * stride + size_t(c) * size, ct, norm);
     return out;
   }
 
+  static double component(const unsigned char* p, int ct, bool norm) {
+    auto read = [p](auto v) {
+      std::memcpy(&v, p, sizeof(v));
+      return v;
+    };
+    switch (ct) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT:
+        return read(float{});
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+        return norm ? read(std::uint32_t{}) / 4294967295.0 : read(std::uint32_t{});
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+        return norm ? read(std::uint16_t{}) / 65535.0 : read(std::uint16_t{});
+      case TINYGLTF_COMPONENT_TYPE_SHORT:
+        return norm ? std::max(read(std::int16_t{}) / 32767.0, -1.0) : read(std::int16_t{});
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return norm ? read(std::uint8_t{}) / 255.0 : read(std::uint8_t{});
+      default:  // BYTE
+        return norm ? std::max(read(std::int8_t{}) / 127.0, -1.0) : read(std::int8_t{});
+    }
+  }
+
   void add_mesh(TriMesh& m, int mesh_index, const Eigen::Matrix4d& world) {
-    for (const auto& prim : at("meshes", mesh_index).value("primitives", json::array())) {
-      if (prim.value("mode", 4) != 4)
-        fail(path_, "primitive mode " + std::to_string(prim.value("mode", 4)) +
-                        " is not supported (triangles only)");
-      const json& attr = prim.value("attributes", json::object());
-      if (!attr.contains("POSITION")) fail(path_, "a primitive has no POSITION attribute");
+    check_index(mesh_index, g_.meshes.size(), "meshes");
+    for (const tinygltf::Primitive& prim : g_.meshes[mesh_index].primitives) {
+      const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if (mode != TINYGLTF_MODE_TRIANGLES)
+        fail(path_,
+             "primitive mode " + std::to_string(mode) + " is not supported (triangles only)");
+      const auto attr = [&](const char* name) {
+        const auto it = prim.attributes.find(name);
+        return it == prim.attributes.end() ? -1 : it->second;
+      };
+      if (attr("POSITION") < 0) fail(path_, "a primitive has no POSITION attribute");
       int c = 0;
-      const std::vector<double> pos = accessor(attr["POSITION"].get<int>(), c);
+      const std::vector<double> pos = accessor(attr("POSITION"), c);
       if (c != 3) fail(path_, "POSITION must be VEC3");
       const size_t n = pos.size() / 3, base = m.vertices.size();
+      if (base + n > size_t(std::numeric_limits<int>::max()))
+        fail(path_, "more vertices than a mesh can index");
       std::vector<double> uv, col;
       int cu = 0, cc = 0;
-      if (attr.contains("TEXCOORD_0")) uv = accessor(attr["TEXCOORD_0"].get<int>(), cu);
-      if (attr.contains("COLOR_0")) col = accessor(attr["COLOR_0"].get<int>(), cc);
+      if (attr("TEXCOORD_0") >= 0) uv = accessor(attr("TEXCOORD_0"), cu);
+      if (attr("COLOR_0") >= 0) col = accessor(attr("COLOR_0"), cc);
       for (size_t i = 0; i < n; ++i) {
         const Eigen::Vector4d p =
             world * Eigen::Vector4d(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2], 1);
@@ -276,9 +217,9 @@ class Gltf {
       any_uv_ |= cu == 2;
       any_color_ |= cc >= 3;
       std::vector<double> idx;
-      if (prim.contains("indices")) {
+      if (prim.indices >= 0) {
         int ci = 0;
-        idx = accessor(prim["indices"].get<int>(), ci);
+        idx = accessor(prim.indices, ci);
       } else {
         for (size_t i = 0; i < n; ++i) idx.push_back(static_cast<double>(i));
       }
@@ -287,51 +228,41 @@ class Gltf {
       for (size_t k = 0; k < idx.size(); k += 3) {
         std::array<int, 3> t;
         for (int q = 0; q < 3; ++q) {
-          if (idx[k + q] >= n)
+          if (!(idx[k + q] >= 0 && idx[k + q] < double(n)))
             fail(path_, "index " + std::to_string(static_cast<long>(idx[k + q])) +
                             " out of range (" + std::to_string(n) + " vertices)");
-          t[q] = static_cast<int>(base + idx[k + q]);
+          t[q] = static_cast<int>(base + size_t(idx[k + q]));
         }
         m.triangles.push_back(t);
       }
-      if (texture_image_ < 0 && prim.contains("material"))
-        texture_image_ = base_color_image(prim["material"].get<int>());
+      if (texture_image_ < 0 && prim.material >= 0)
+        texture_image_ = base_color_image(prim.material);
     }
   }
 
   int base_color_image(int material) const {
-    const json& mat = at("materials", material);
-    const json pbr = mat.value("pbrMetallicRoughness", json::object());
-    if (!pbr.contains("baseColorTexture")) return -1;
-    const json& tex = at("textures", pbr["baseColorTexture"].value("index", -1));
-    return tex.value("source", -1);
+    check_index(material, g_.materials.size(), "materials");
+    const int tex = g_.materials[material].pbrMetallicRoughness.baseColorTexture.index;
+    if (tex < 0) return -1;
+    check_index(tex, g_.textures.size(), "textures");
+    return g_.textures[tex].source;
   }
 
   cv::Mat image(int index) const {
-    const json& img = at("images", index);
-    std::string bytes;
-    if (img.contains("uri")) {
-      bytes = uri_bytes(img["uri"].get<std::string>(), path_);
-    } else {
-      const json& view = at("bufferViews", img.value("bufferView", -1));
-      const std::string& buf =
-          buffers_.at(std::min<size_t>(view.value("buffer", 0), buffers_.size() - 1));
-      const size_t off = view.value("byteOffset", size_t{0}),
-                   len = view.value("byteLength", size_t{0});
-      if (off + len > buf.size())
-        fail(path_, "image " + std::to_string(index) + " lies past the end of its buffer");
-      bytes = buf.substr(off, len);
-    }
-    cv::Mat out = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U, bytes.data()),
-                               cv::IMREAD_COLOR);
+    check_index(index, g_.images.size(), "images");
+    const std::vector<unsigned char>& bytes = g_.images[index].image;
+    cv::Mat out;
+    if (!bytes.empty() && bytes.size() < size_t(std::numeric_limits<int>::max()))
+      out = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U,
+                                 const_cast<unsigned char*>(bytes.data())),
+                         cv::IMREAD_COLOR);
     if (out.empty()) fail(path_, "image " + std::to_string(index) + " cannot be decoded");
     return out;
   }
 
+  const tinygltf::Model& g_;
   std::string path_;
   MeshReadOptions options_;
-  json j_;
-  std::vector<std::string> buffers_;
   bool any_uv_ = false, any_color_ = false;
   int texture_image_ = -1;
 };
@@ -339,12 +270,27 @@ class Gltf {
 }  // namespace
 
 TriMesh read_gltf(const std::string& path, const MeshReadOptions& options) {
-  TriMesh m;
-  try {
-    m = Gltf(path, options).mesh();
-  } catch (const nlohmann::json::exception& e) {
-    fail(path, std::string("malformed glTF: ") + e.what());
+  const std::string bytes = read_bytes(path);
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) fail(path, "file too large");
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks({file_exists, expand_path, read_whole_file, refuse_write, nullptr});
+  loader.SetImageLoader(keep_encoded, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  const bool binary = bytes.compare(0, 4, "glTF") == 0;
+  const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, data,
+                                                       static_cast<unsigned int>(bytes.size()), dir)
+                         : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                                      static_cast<unsigned int>(bytes.size()), dir);
+  if (!ok) {
+    while (!err.empty() && std::isspace(static_cast<unsigned char>(err.back()))) err.pop_back();
+    std::replace(err.begin(), err.end(), '\n', ' ');
+    fail(path, std::string(binary ? "invalid GLB: " : "invalid glTF: ") +
+                   (err.empty() ? "cannot be parsed" : err));
   }
+  TriMesh m = Scene(model, path, options).mesh();
   if (m.triangles.empty()) fail(path, "no triangles in any mesh");
   validate_read(m, path);
   return m;

@@ -1,4 +1,7 @@
-// write_glb: binary glTF 2.0 (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html).
+// write_glb: binary glTF 2.0 (https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html),
+// serialised by tinygltf (Debian libtinygltf-dev).
+#include <tiny_gltf.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -17,12 +20,6 @@
 
 namespace orthoface::render {
 namespace {
-
-void append(std::vector<uint8_t>& bin, const void* data, size_t bytes) {
-  const auto* p = static_cast<const uint8_t*>(data);
-  bin.insert(bin.end(), p, p + bytes);
-  while (bin.size() % 4) bin.push_back(0);  // every view starts 4-byte aligned
-}
 
 // Unit normals welded over coincident positions, so a UV seam shades smoothly.
 std::vector<Eigen::Vector3d> welded_normals(const mesh::TriMesh& m) {
@@ -47,41 +44,29 @@ std::vector<Eigen::Vector3d> welded_normals(const mesh::TriMesh& m) {
   return out;
 }
 
-struct View {
-  size_t offset, length;
-  int target;  // 0 = none (image)
-};
+// Appends `bytes` of `data` to buffer 0 as a new buffer view (4-byte aligned); returns its index.
+int add_view(tinygltf::Model& g, const void* data, size_t bytes, int target) {
+  std::vector<unsigned char>& bin = g.buffers[0].data;
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = bin.size();
+  view.byteLength = bytes;
+  view.target = target;
+  const auto* p = static_cast<const unsigned char*>(data);
+  bin.insert(bin.end(), p, p + bytes);
+  while (bin.size() % 4) bin.push_back(0);
+  g.bufferViews.push_back(view);
+  return int(g.bufferViews.size()) - 1;
+}
 
-std::string gltf_json(const mesh::TriMesh& m, const std::vector<View>& views, size_t bin_size,
-                      const Eigen::Vector3f& lo, const Eigen::Vector3f& hi) {
-  std::ostringstream j;
-  j.precision(9);
-  const size_t n = m.vertices.size();
-  j << R"({"asset":{"version":"2.0","generator":"orthoface"},"scene":0,"scenes":[{"nodes":[0]}],)"
-    << R"("nodes":[{"mesh":0,"name":"head"}],)"
-    << R"("meshes":[{"primitives":[{"attributes":{"POSITION":0,"NORMAL":1,"TEXCOORD_0":2},)"
-    << R"("indices":3,"material":0}]}],)"
-    << R"("materials":[{"name":"inherited","pbrMetallicRoughness":{"baseColorTexture":{"index":0},)"
-    << R"("metallicFactor":0,"roughnessFactor":1}}],)"
-    << R"("textures":[{"source":0,"sampler":0}],)"
-    << R"("samplers":[{"magFilter":9729,"minFilter":9729,"wrapS":33071,"wrapT":33071}],)"
-    << R"("images":[{"bufferView":4,"mimeType":"image/png"}],)"
-    << R"("accessors":[)"
-    << R"({"bufferView":0,"componentType":5126,"count":)" << n << R"(,"type":"VEC3","min":[)"
-    << lo.x() << "," << lo.y() << "," << lo.z() << "],\"max\":[" << hi.x() << "," << hi.y() << ","
-    << hi.z() << "]},"
-    << R"({"bufferView":1,"componentType":5126,"count":)" << n << R"(,"type":"VEC3"},)"
-    << R"({"bufferView":2,"componentType":5126,"count":)" << n << R"(,"type":"VEC2"},)"
-    << R"({"bufferView":3,"componentType":5125,"count":)" << m.triangles.size() * 3
-    << R"(,"type":"SCALAR"}],"bufferViews":[)";
-  for (size_t i = 0; i < views.size(); ++i) {
-    j << (i ? "," : "") << R"({"buffer":0,"byteOffset":)" << views[i].offset << R"(,"byteLength":)"
-      << views[i].length;
-    if (views[i].target) j << R"(,"target":)" << views[i].target;
-    j << "}";
-  }
-  j << R"(],"buffers":[{"byteLength":)" << bin_size << "}]}";
-  return j.str();
+int add_accessor(tinygltf::Model& g, int view, int component, size_t count, int type) {
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.componentType = component;
+  a.count = count;
+  a.type = type;
+  g.accessors.push_back(a);
+  return int(g.accessors.size()) - 1;
 }
 
 }  // namespace
@@ -104,28 +89,62 @@ void write_glb(const mesh::TriMesh& m, const std::string& path) {
   std::vector<uint8_t> png;
   if (!cv::imencode(".png", m.texture, png))
     throw std::runtime_error("write_glb: cannot encode the texture of " + path);
-  std::vector<uint8_t> bin;
-  std::vector<View> views;
-  auto add = [&](const void* data, size_t bytes, int target) {
-    views.push_back({bin.size(), bytes, target});
-    append(bin, data, bytes);
-  };
-  add(pos.data(), pos.size() * 4, 34962);
-  add(nrm.data(), nrm.size() * 4, 34962);
-  add(uv.data(), uv.size() * 4, 34962);
-  add(m.triangles.data(), m.triangles.size() * 12, 34963);
-  add(png.data(), png.size(), 0);
-  std::string json = gltf_json(m, views, bin.size(), lo, hi);
-  while (json.size() % 4) json.push_back(' ');
-  const uint32_t header[3] = {0x46546C67u, 2u, uint32_t(12 + 8 + json.size() + 8 + bin.size())};
-  const uint32_t json_head[2] = {uint32_t(json.size()), 0x4E4F534Au};
-  const uint32_t bin_head[2] = {uint32_t(bin.size()), 0x004E4942u};
+  tinygltf::Model g;
+  g.asset.version = "2.0";
+  g.asset.generator = "orthoface";
+  g.buffers.resize(1);
+  const int p =
+      add_accessor(g, add_view(g, pos.data(), pos.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, m.vertices.size(), TINYGLTF_TYPE_VEC3);
+  g.accessors[p].minValues = {lo.x(), lo.y(), lo.z()};
+  g.accessors[p].maxValues = {hi.x(), hi.y(), hi.z()};
+  tinygltf::Primitive prim;
+  prim.mode = TINYGLTF_MODE_TRIANGLES;
+  prim.material = 0;
+  prim.attributes["POSITION"] = p;
+  prim.attributes["NORMAL"] =
+      add_accessor(g, add_view(g, nrm.data(), nrm.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, m.vertices.size(), TINYGLTF_TYPE_VEC3);
+  prim.attributes["TEXCOORD_0"] =
+      add_accessor(g, add_view(g, uv.data(), uv.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                   TINYGLTF_COMPONENT_TYPE_FLOAT, m.vertices.size(), TINYGLTF_TYPE_VEC2);
+  prim.indices = add_accessor(g,
+                              add_view(g, m.triangles.data(), m.triangles.size() * 12,
+                                       TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, m.triangles.size() * 3,
+                              TINYGLTF_TYPE_SCALAR);
+  tinygltf::Image image;
+  image.bufferView = add_view(g, png.data(), png.size(), 0);
+  image.mimeType = "image/png";
+  g.images.push_back(image);
+  tinygltf::Sampler sampler;
+  sampler.magFilter = sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  sampler.wrapS = sampler.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  g.samplers.push_back(sampler);
+  tinygltf::Texture texture;
+  texture.source = 0;
+  texture.sampler = 0;
+  g.textures.push_back(texture);
+  tinygltf::Material material;
+  material.name = "inherited";
+  material.pbrMetallicRoughness.baseColorTexture.index = 0;
+  material.pbrMetallicRoughness.metallicFactor = 0;
+  material.pbrMetallicRoughness.roughnessFactor = 1;
+  g.materials.push_back(material);
+  tinygltf::Mesh mesh;
+  mesh.primitives.push_back(prim);
+  g.meshes.push_back(mesh);
+  tinygltf::Node node;
+  node.mesh = 0;
+  node.name = "head";
+  g.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes = {0};
+  g.scenes.push_back(scene);
+  g.defaultScene = 0;
   io::write_stream_atomically(path, [&](std::ostream& f) {
-    f.write(reinterpret_cast<const char*>(header), 12);
-    f.write(reinterpret_cast<const char*>(json_head), 8);
-    f.write(json.data(), std::streamsize(json.size()));
-    f.write(reinterpret_cast<const char*>(bin_head), 8);
-    f.write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
+    if (!tinygltf::TinyGLTF().WriteGltfSceneToStream(&g, f, false, true))
+      throw std::runtime_error("cannot serialise the glTF");
   });
 }
 

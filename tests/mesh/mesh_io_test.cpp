@@ -189,7 +189,62 @@ TEST(MeshIo, GlbWithEveryIndexWidthAndEmbeddedImage) {
              R"({"asset":{"version":"2.0"},"buffers":[{"uri":"missing.bin","byteLength":4}]})");
   EXPECT_NE(error_of((dir / "ext.gltf").string()).find("missing.bin"), std::string::npos);
   write_text(dir / "bad.gltf", "{ not json");
-  EXPECT_NE(error_of((dir / "bad.gltf").string()).find("invalid glTF JSON"), std::string::npos);
+  EXPECT_NE(error_of((dir / "bad.gltf").string()).find("invalid glTF"), std::string::npos);
+}
+
+// Crafted glTF files: each is refused with an error naming the file, none crashes, hangs or
+// reads a device. One triangle's positions in tri.bin; the JSON around it varies.
+TEST(MeshIo, HostileGltfIsRefused) {
+  const auto dir = testing::temp_dir("mesh_io_gltf_hostile");
+  std::string bin;
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  bin.append(reinterpret_cast<const char*>(pos), sizeof(pos));
+  write_text(dir / "tri.bin", bin);
+  auto gltf = [&](const std::string& nodes, const std::string& accessor,
+                  const std::string& view = R"({"buffer":0,"byteLength":36})",
+                  const std::string& uri = "tri.bin") {
+    return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" + nodes +
+           R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"accessors":[)" +
+           accessor + R"(],"bufferViews":[)" + view + R"(],"buffers":[{"uri":")" + uri +
+           R"(","byteLength":36}]})";
+  };
+  const std::string ok_accessor =
+      R"({"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"})";
+  write_text(dir / "ok.gltf", gltf(R"([{"mesh":0}])", ok_accessor));
+  EXPECT_EQ(read_mesh((dir / "ok.gltf").string()).triangles.size(), 1u);
+  std::string chain = "[";
+  for (int i = 0; i < 5000; ++i)
+    chain += (i ? "," : "") + std::string(R"({"children":[)") + std::to_string(i + 1) + "]}";
+  chain += R"(,{"mesh":0}])";
+  const std::pair<std::string, std::string> cases[] = {
+      {gltf(R"([{"mesh":0,"children":[0]}])", ok_accessor), "its own ancestor"},
+      {gltf(R"([{"children":[1]},{"mesh":0,"children":[0]}])", ok_accessor), "its own ancestor"},
+      {gltf(chain, ok_accessor), "deeper than"},
+      {gltf(R"([{"mesh":0}])",
+            R"({"bufferView":0,"componentType":5126,"count":1000000000000,"type":"VEC3"})"),
+       "past the end"},
+      {gltf(R"([{"mesh":0}])",
+            R"({"bufferView":0,"componentType":5126,"count":-3.4e38,"type":"VEC3"})"),
+       "invalid glTF"},
+      {gltf(R"([{"mesh":0}])",
+            R"({"bufferView":0,"byteOffset":18446744073709551600,"componentType":5126,)"
+            R"("count":3,"type":"VEC3"})"),
+       "past the end"},
+      {gltf(R"([{"mesh":0}])", ok_accessor,
+            R"({"buffer":0,"byteOffset":18446744073709551600,"byteLength":36})"),
+       "past the end"},
+      {gltf(R"([{"mesh":0}])", ok_accessor, R"({"buffer":0,"byteLength":36})", "/dev/zero"),
+       "/dev/zero"},
+      {gltf(R"([{"mesh":7}])", ok_accessor), "does not exist"},
+  };
+  int i = 0;
+  for (const auto& [text, needle] : cases) {
+    const fs::path p = dir / ("h" + std::to_string(i++) + ".gltf");
+    write_text(p, text);
+    const std::string e = error_of(p.string());
+    EXPECT_NE(e.find(p.string()), std::string::npos) << i << ": " << e;
+    EXPECT_NE(e.find(needle), std::string::npos) << i << ": " << e;
+  }
 }
 
 TEST(MeshIo, GltfWithExternalBinFile) {
