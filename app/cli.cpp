@@ -9,6 +9,8 @@
 #include <iostream>
 #include <stdexcept>
 
+#include <CLI/CLI.hpp>
+
 namespace orthoface::app {
 
 std::string Args::get(const std::string& flag, const std::string& fallback) const {
@@ -17,55 +19,48 @@ std::string Args::get(const std::string& flag, const std::string& fallback) cons
 }
 
 Args parse_args(const Command& command, int argc, char** argv) {
-  Args args;
-  for (int i = 2; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      args.help = true;
-      continue;
-    }
-    if (a.rfind("--", 0) == 0 && a.size() > 2) {
-      std::string name = a.substr(2), value;
-      bool inline_value = false;
-      if (auto eq = name.find('='); eq != std::string::npos) {
-        value = name.substr(eq + 1);
-        name = name.substr(0, eq);
-        inline_value = true;
-      }
-      const Flag* flag = nullptr;
-      for (const Flag& f : command.flags)
-        if (f.name == name) flag = &f;
-      if (!flag)
-        throw std::invalid_argument(command.name + ": unknown flag --" + name + " (see orthoface " +
-                                    command.name + " --help)");
-      if (flag->takes_value && !inline_value) {
-        if (i + 1 >= argc)
-          throw std::invalid_argument(command.name + ": flag --" + name + " needs a value");
-        value = argv[++i];
-      } else if (!flag->takes_value && inline_value) {
-        throw std::invalid_argument(command.name + ": flag --" + name + " takes no value");
-      }
-      if (args.values.count(name))
-        throw std::invalid_argument(command.name + ": flag --" + name + " given twice");
-      args.values[name] = value;
-      continue;
-    }
-    if (a.size() > 1 && a[0] == '-' && !std::isdigit(static_cast<unsigned char>(a[1])) &&
-        a[1] != '.') {
-      // Short flags: only -o is used, as an alias of --output / -o FILE.
-      const Flag* flag = nullptr;
-      for (const Flag& f : command.flags)
-        if (f.name == a.substr(1)) flag = &f;
-      if (!flag) throw std::invalid_argument(command.name + ": unknown flag " + a);
-      if (i + 1 >= argc)
-        throw std::invalid_argument(command.name + ": flag " + a + " needs a value");
-      args.values[flag->name] = argv[++i];
-      continue;
-    }
-    if (static_cast<int>(args.positional.size()) >= command.max_positional)
-      throw std::invalid_argument(command.name + ": unexpected argument '" + a + "'");
-    args.positional.push_back(a);
+  // CLI11 parses; the command's table says what it accepts. Values stay strings here: the typed
+  // getters below check and convert them with the flag's name in the message.
+  CLI::App app(command.summary, "orthoface " + command.name);
+  app.set_help_flag();  // --help / -h are handled below, to print our own layout
+  bool help = false;
+  app.add_flag("-h,--help", help);
+  std::map<std::string, std::string> values;
+  std::map<std::string, bool> switches;
+  std::vector<std::pair<std::string, CLI::Option*>> options;
+  for (const Flag& f : command.flags) {
+    // One-letter flags answer to both -k and --k, as the help writes them.
+    const std::string name = (f.name.size() == 1 ? "-" + f.name + "," : "") + "--" + f.name;
+    CLI::Option* o =
+        f.takes_value ? app.add_option(name, values[f.name]) : app.add_flag(name, switches[f.name]);
+    o->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    options.emplace_back(f.name, o);
   }
+  std::vector<std::string> positional;
+  app.add_option("args", positional);  // counted below, to name the extra one
+  auto fail = [&](const std::string& why) {
+    return std::invalid_argument(command.name + ": " + why + " (see orthoface " + command.name +
+                                 " --help)");
+  };
+  try {
+    app.parse(argc - 1, argv + 1);  // argv[1], the command's name, stands in for the program
+  } catch (const CLI::ParseError& e) {
+    if (help) return Args{{}, {}, true};
+    std::string why = e.what();  // CLI11's wording, with its "N required TEXT missing" made plain
+    if (const auto at = why.find(": 1 required TEXT missing"); at != std::string::npos)
+      why = "flag " + why.substr(0, at) + " needs a value";
+    throw fail(why);
+  }
+  Args args;
+  args.help = help;
+  if (help) return args;
+  for (const auto& [name, o] : options) {
+    if (o->count() > 1) throw fail("flag " + o->get_name() + " given twice");
+    if (o->count() > 0) args.values[name] = values.count(name) ? values[name] : std::string();
+  }
+  if (static_cast<int>(positional.size()) > command.max_positional)
+    throw fail("unexpected argument '" + positional[command.max_positional] + "'");
+  args.positional = positional;
   return args;
 }
 

@@ -6,7 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config git
   libopencv-dev opencv-data libeigen3-dev libosmesa6-dev
-  libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libtinygltf-dev
+  libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libtinygltf-dev libcli11-dev
   libv4l-dev v4l-utils libcamera-dev chromium
   libopenmpi-dev openmpi-bin
   assimp-utils
