@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "model/base_mesh_data.h"
+#include "model/generic_head.h"
 
 namespace orthoface::model {
 namespace {
@@ -60,13 +60,11 @@ namespace {
 
 // The sampled contour at table row `row` (fractional, inside the table), ray |angle|.
 Eigen::Vector2d sampled_contour(double row, double ray) {
-  using namespace detail;
-  const int r0 = std::min(static_cast<int>(row), kGenericRows - 2);
-  const int a0 = std::min(static_cast<int>(ray), kGenericHalfRays - 2);
+  const detail::GenericHead& g = detail::generic_head();
+  const int r0 = std::min(static_cast<int>(row), g.rows - 2);
+  const int a0 = std::min(static_cast<int>(ray), g.half_rays - 2);
   const double tr = row - r0, ta = ray - a0;
-  auto at = [](int r, int a) {
-    return Eigen::Vector2d(kGenericContour[r][a][0], kGenericContour[r][a][1]);
-  };
+  auto at = [&g](int r, int a) { return Eigen::Vector2d(g.at(r, a)[0], g.at(r, a)[1]); };
   return (1 - tr) * ((1 - ta) * at(r0, a0) + ta * at(r0, a0 + 1)) +
          tr * ((1 - ta) * at(r0 + 1, a0) + ta * at(r0 + 1, a0 + 1));
 }
@@ -74,16 +72,15 @@ Eigen::Vector2d sampled_contour(double row, double ray) {
 }  // namespace
 
 Eigen::Vector2d generic_contour(double y, double angle) {
-  using namespace detail;
+  const detail::GenericHead& g = detail::generic_head();
   // Bilinear in (row, ray) over the sampled table; the head is mirror symmetric in x.
-  const double row_mm = (kGenericTop - kGenericBottom) / (kGenericRows - 1);
-  const double row = (kGenericTop - std::clamp(y, kGenericBottom - kMaxExtrapolationMm,
-                                               kGenericTop + kMaxExtrapolationMm)) /
-                     row_mm;
-  const double ray = std::clamp(std::abs(angle) / (M_PI / 2), 0.0, 1.0) * (kGenericHalfRays - 1);
+  const double row_mm = (g.top - g.bottom) / (g.rows - 1);
+  const double row =
+      (g.top - std::clamp(y, g.bottom - kMaxExtrapolationMm, g.top + kMaxExtrapolationMm)) / row_mm;
+  const double ray = std::clamp(std::abs(angle) / (M_PI / 2), 0.0, 1.0) * (g.half_rays - 1);
   Eigen::Vector2d p;
-  if (row < 0 || row > kGenericRows - 1) {  // linear continuation of the end row's slope
-    const double end = row < 0 ? 0 : kGenericRows - 1, inner = row < 0 ? 1 : kGenericRows - 2;
+  if (row < 0 || row > g.rows - 1) {  // linear continuation of the end row's slope
+    const double end = row < 0 ? 0 : g.rows - 1, inner = row < 0 ? 1 : g.rows - 2;
     const Eigen::Vector2d e = sampled_contour(end, ray);
     p = e + std::abs(row - end) * (e - sampled_contour(inner, ray));
     p.x() = std::max(p.x(), 0.0);
@@ -97,10 +94,7 @@ double generic_half_width(double y_mm) { return generic_contour(y_mm, M_PI / 2).
 
 std::map<std::string, Eigen::Vector3d> generic_landmarks() {
   std::map<std::string, Eigen::Vector3d> out;
-  for (int i = 0; i < detail::kGenericLandmarkCount; ++i) {
-    const auto& l = detail::kGenericLandmarks[i];
-    out[l.name] = {l.x, l.y, l.z};
-  }
+  for (const auto& [name, p] : detail::generic_head().landmarks) out[name] = p;
   return out;
 }
 

@@ -51,7 +51,7 @@ BaseMesh base_mesh(const BaseMeshOptions& options = {});
 // from (x 0, z 0) at `angle_rad` from +z toward +x (-pi/2 .. pi/2). Above forehead_top and
 // below chin_bottom the sampled shape is extrapolated linearly (at most 40 mm, farther heights
 // are clamped to that). The shape is the project's average simulated head (seed 0) sampled
-// offline into model/base_mesh_data.cpp.
+// offline into model/data/generic_head.json (tools/gen_generic_head).
 Eigen::Vector2d generic_contour(double y_mm, double angle_rad);
 
 // Half-width (mm) of the generic head's front-half section at height y (ray at 90 degrees).
