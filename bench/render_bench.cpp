@@ -23,8 +23,7 @@ namespace {
 using namespace orthoface;
 
 capture::CameraModel view_camera() {
-  const capture::CameraModel front = capture::ideal_rig(640, 480, 1.6).front;
-  return capture::camera_at(front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
+  return capture::view_camera(capture::ideal_rig(640, 480, 1.6), 30, 10);
 }
 
 mesh::TriMesh ellipsoid(int triangles) {  // 2 * segments * (rings - 1) triangles
@@ -91,8 +90,7 @@ void BM_NewViewSimHead(benchmark::State& state) {
   o.per_pixel_visibility = state.range(0) != 3;
   o.depth = state.range(0) != 4;
   o.skip_unoccluded = state.range(0) != 5;
-  const capture::CameraModel cam =
-      capture::camera_at(rig.front, 30 * M_PI / 180, 10 * M_PI / 180, 1000);
+  const capture::CameraModel cam = capture::view_camera(rig, 30, 10);
   synth.render(cam, o);
   for (auto _ : state) benchmark::DoNotOptimize(synth.render(cam, o).view.image.data);
   state.counters["fps"] =
@@ -134,7 +132,7 @@ render::ColourUpdate colour_update(const benchmark::State& state) {
 // match is kept (the live station), 1: recomputed on every call.
 void BM_NewViewWithNewPhotos(benchmark::State& state) {
   LivePhotos live;
-  const capture::CameraModel cam = capture::camera_at(live.rig.front, 30 * M_PI / 180, 0, 1000);
+  const capture::CameraModel cam = capture::view_camera(live.rig, 30, 0);
   for (auto _ : state) {
     live.next(colour_update(state));
     benchmark::DoNotOptimize(live.synth->render(cam).view.image.data);

@@ -86,8 +86,7 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
   c.fy = k.at<double>(1, 1);
   c.cx = k.at<double>(0, 2);
   c.cy = k.at<double>(1, 2);
-  if (!(c.fx > 0) || !(c.fy > 0) || !std::isfinite(c.cx) || !std::isfinite(c.cy))
-    fail("camera_matrix needs positive finite fx, fy and finite cx, cy");
+  if (const std::string why = camera_problem(c); !why.empty()) fail("camera_matrix: " + why);
   cv::Mat d = read_matrix(n, "distortion", fail);
   if (!d.empty()) {
     d.convertTo(d, CV_64F);
@@ -163,6 +162,19 @@ CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitc
   return c;
 }
 
+std::string camera_problem(const CameraModel& c) {
+  constexpr double kMaxFocal = 1e6, kMaxCentre = 1e6;
+  if (c.width <= 0 || c.height <= 0)
+    return "image size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+           " is not positive";
+  if (!(c.fx > 0 && c.fx <= kMaxFocal) || !(c.fy > 0 && c.fy <= kMaxFocal))
+    return "fx, fy must be finite, positive and at most 1e6";
+  if (!(std::abs(c.cx) <= kMaxCentre) || !(std::abs(c.cy) <= kMaxCentre))
+    return "cx, cy must be finite and within 1e6 px";
+  if (!c.cam_from_head.matrix().allFinite()) return "the pose has non-finite entries";
+  return "";
+}
+
 CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_deg) {
   const double distance = std::max(rig.front.cam_from_head.translation().norm(), 1.0);
   return camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
@@ -171,14 +183,8 @@ CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_
 RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left) {
   if (side_faces_left) return rig;
   const CameraModel& s = rig.side;
-  if (s.width <= 0 || s.height <= 0)
-    throw std::invalid_argument("photo rig: side camera: image size " + std::to_string(s.width) +
-                                "x" + std::to_string(s.height) + " is not positive");
-  if (!(s.fx > 0) || !(s.fy > 0) || !std::isfinite(s.fx) || !std::isfinite(s.fy) ||
-      !std::isfinite(s.cx) || !std::isfinite(s.cy) || !s.cam_from_head.matrix().allFinite())
-    throw std::invalid_argument(
-        "photo rig: side camera: camera needs finite fx, fy > 0, cx, cy "
-        "and pose");
+  if (const std::string why = camera_problem(s); !why.empty())
+    throw std::invalid_argument("photo rig: side camera: " + why);
   // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
   // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
   const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();

@@ -38,6 +38,11 @@ struct RigCalibration {
   std::string source;  // where it came from ("ideal default", file path, "sim", ...)
 };
 
+// What is wrong with a camera model, or "" when nothing is: a positive image size, finite
+// fx, fy in (0, 1e6], finite cx, cy within 1e6 px, a finite pose. Every reader and user of a
+// rig checks with this one rule.
+std::string camera_problem(const CameraModel& camera);
+
 // Pixel position of head-frame point p_head (mm) seen by `camera`, distortion included.
 // A perspective camera returns NaN for a point at or behind its centre (z_cam <= 0).
 Eigen::Vector2d project(const CameraModel& camera, const Eigen::Vector3d& p_head);
@@ -69,7 +74,7 @@ CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_
 // observation but not the side photo, which must be projected from where it was taken: `rig`
 // with its side camera reflected through the x = 0 plane (pose, principal point and tangential
 // distortion p2), i.e. standing at -x. With side_faces_left == true, `rig` unchanged. Throws
-// std::invalid_argument on a side camera without a positive size, finite fx, fy > 0, cx, cy, pose.
+// std::invalid_argument when the side camera has a camera_problem().
 RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left);
 
 // The sign of camera_at's yaw that turns a view toward the side camera of `photo_rig` (the rig

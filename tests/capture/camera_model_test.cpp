@@ -216,6 +216,8 @@ TEST(RigFile, MalformedFieldsThrowNamingTheField) {
       {"height: 480", "height: 100000", "image size"},
       {"data: [ 2.", "data: [ .nan", "camera_matrix"},
       {"data: [ 2.", "data: [ -2.", "camera_matrix"},
+      {"data: [ 2.", "data: [ 1e300", "camera_matrix"},  // finite but absurd focal
+      {"data: [ 2.", "data: [ .inf", "camera_matrix"},
       {"front:", "frontal:", "missing camera section"},
       {"rows: 3", "rows: 1", "camera_matrix"},
       {"cam_from_head: !!opencv-matrix\n      rows: 4\n      cols: 4\n      dt: d\n      data: [ "
@@ -296,6 +298,23 @@ TEST(PhotoRig, TangentialDistortionIsReflected) {
   const Eigen::Vector3d p(10, 20, 30);
   const Eigen::Vector2d mirrored = project(rig.side, Eigen::Vector3d(-p.x(), p.y(), p.z()));
   EXPECT_NEAR(project(right.side, p).x(), rig.side.width - mirrored.x(), 1e-9);
+}
+
+TEST(CameraProblem, NamesWhatIsWrong) {
+  const CameraModel good = ideal_rig(640, 480, 2.0).front;
+  EXPECT_EQ(camera_problem(good), "");
+  auto problem = [&](auto change) {
+    CameraModel c = good;
+    change(c);
+    return camera_problem(c);
+  };
+  EXPECT_NE(problem([](CameraModel& c) { c.height = 0; }).find("image size"), std::string::npos);
+  EXPECT_NE(problem([](CameraModel& c) { c.fx = INFINITY; }).find("fx"), std::string::npos);
+  EXPECT_NE(problem([](CameraModel& c) { c.fy = 1e300; }).find("fx, fy"), std::string::npos);
+  EXPECT_NE(problem([](CameraModel& c) { c.fx = -1; }).find("fx"), std::string::npos);
+  EXPECT_NE(problem([](CameraModel& c) { c.cy = NAN; }).find("cx, cy"), std::string::npos);
+  EXPECT_NE(problem([](CameraModel& c) { c.cam_from_head.translation().x() = NAN; }).find("pose"),
+            std::string::npos);
 }
 
 TEST(PhotoRig, RefusesABadSideCamera) {
