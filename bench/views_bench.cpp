@@ -7,8 +7,8 @@
 //                                        views_accuracy.{json,md} and error pictures at 45 deg
 //   real photos are judged by real_views_bench (an independent landmarker, dlib)
 //   --no-photo-masks (last argument)     texture without the side photo's profile mask
-// Every subject goes through the demo's pipeline (reconstruct::from_photos: vision -> stereo -> eq. 2
-// with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
+// Every subject goes through the demo's pipeline (reconstruct::from_photos: vision -> stereo -> eq.
+// 2 with the rig the station believes). The same photos texture four meshes: the TRUE head (upper
 // bound: only texturing error left), the adapted mesh, the Procrustes fit of the base mesh to
 // the same 3D targets and the unadapted base mesh (model/adapt.h), each with `pick` and
 // `view`, `pick` and `weighted` blending (render/new_view.h).

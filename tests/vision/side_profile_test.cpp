@@ -1,0 +1,73 @@
+// The side photo: the face profile, which way it faces, the eye behind it.
+#include "vision/side_profile.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include "vision/contour_chain.h"
+#include "vision/feature_filters.h"
+
+namespace ov = orthoface::vision;
+
+// A left-facing profile polygon (crown, forehead, nose, lips, chin, under-chin, throat) closed
+// behind by the back of the head and the neck; head height 200 px.
+std::vector<cv::Point> profile_polygon() {
+  return {{150, 20},  {110, 40},  {100, 90},  {102, 110}, {80, 130},  {96, 142},
+          {92, 160},  {98, 175},  {94, 195},  {120, 215}, {160, 218}, {165, 300},
+          {240, 300}, {245, 200}, {255, 120}, {230, 40}};
+}
+
+TEST(SideProfile, FaceProfileShapeAndFacing) {
+  std::vector<cv::Point2d> curve;
+  const auto poly = profile_polygon();
+  for (size_t i = 0; i + 1 < poly.size() && poly[i].y < 300; ++i) {
+    curve.emplace_back(poly[i]);
+    curve.emplace_back((poly[i] + poly[i + 1]) / 2);
+  }
+  EXPECT_TRUE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 200));
+  // The back of the head (a smooth arc down to the neck) is no face.
+  std::vector<cv::Point2d> back;
+  for (int i = 0; i <= 100; ++i)
+    back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
+  EXPECT_FALSE(ov::reads_as_face_profile(back, 200));
+  EXPECT_FALSE(ov::reads_as_face_profile({}, 200));                      // degenerate input
+  EXPECT_FALSE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 0));  // no head height
+  // The facing cue on the filled blob, also mirrored.
+  cv::Mat mask(320, 320, CV_8U, cv::Scalar(0));
+  cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255));
+  double conf = 0;
+  EXPECT_TRUE(ov::profile_faces_left(mask, &conf));
+  EXPECT_GT(conf, 0.5);
+  cv::Mat flipped;
+  cv::flip(mask, flipped, 1);
+  EXPECT_FALSE(ov::profile_faces_left(flipped, &conf));
+  EXPECT_THROW(ov::profile_faces_left(mask, cv::Mat(), &conf, -1.0), std::invalid_argument);
+  ov::SideProfileOptions o;
+  o.min_head_height_px = -1;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
+// A profile facing image-left with a dark eye blob 30 px behind its edge at row 100: the eye's
+// front / back ends and iris come out at the blob; plain skin or a window off the image gives none.
+TEST(SideEye, FindsTheBlobBehindTheProfileAndNothingOnSkin) {
+  cv::Mat img(200, 300, CV_8UC3, cv::Scalar(200, 200, 200));
+  const cv::Scalar skin(90, 130, 190);  // BGR
+  cv::rectangle(img, cv::Rect(100, 0, 200, 200), skin, cv::FILLED);
+  const double H = 400, xp = 100;
+  const ov::FilterContext plain = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
+  EXPECT_FALSE(ov::find_side_eye(plain, xp, 100, H, +1).ok);
+  cv::ellipse(img, cv::Point(140, 100), cv::Size(10, 4), 0, 0, 360, cv::Scalar(240, 240, 240),
+              cv::FILLED);
+  cv::circle(img, cv::Point(134, 100), 3, cv::Scalar(60, 30, 20), cv::FILLED);
+  const ov::FilterContext c = ov::make_filter_context(img, {150, 100}, H, {90, 40, 120, 120});
+  const ov::EyeFound e = ov::find_side_eye(c, xp, 100, H, +1);
+  ASSERT_TRUE(e.ok);
+  EXPECT_NEAR(e.corner_image_left.x, 130, 2.0);             // front end
+  EXPECT_NEAR(e.corner_image_right.x, 150, 2.0);            // back end: the outer corner
+  EXPECT_NEAR(e.centre.x, 134, 2.0);                        // the iris
+  EXPECT_FALSE(ov::find_side_eye(c, 1000, 100, H, +1).ok);  // window off the image
+  EXPECT_FALSE(ov::find_side_eye(c, xp, 100, 0, +1).ok);    // no head height
+}
