@@ -118,7 +118,7 @@ Accuracy compare(const std::vector<double>& d, const std::vector<double>& ref) {
 }
 
 nlohmann::json sphere_accuracy(int levels) {
-  // Icosphere by subdivision (as tests/model/analysis_test_meshes.h), radius 100.
+  // Icosphere by subdivision (as tests/analysis/analysis_test_meshes.h), radius 100.
   mesh::TriMesh m;
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
   m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
