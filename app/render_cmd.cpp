@@ -53,10 +53,12 @@ Command render_command() {
            {"no-float", false,
             "blend the photos as projected, without aligning them by optical "
             "flow first (floating textures)"},
-           {"mirror", false,
-            "colour the side the side camera never saw from the side photo "
-            "mirrored about the face's mid-plane (landmarks.json) as well as "
-            "the front photo (default: the front photo alone)"},
+           {"unseen", true,
+            "SOURCE  the side the side camera never saw, mirrored about the face's mid-plane "
+            "(landmarks.json): view (default: a view turned 20 deg or more toward it is drawn "
+            "as the mirror image of the opposite view), texture (the side photo mirrored, "
+            "blended with the front photo) or front (the front photo alone; also the default's "
+            "fallback without landmarks.json)"},
            {"export", true,
             "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
             ".png), .glb (texture embedded) or .ply (vertex colours)"},
@@ -193,25 +195,30 @@ int run_render(int argc, char** argv) {
   }
   std::pair<int, int> size{0, 0};
   if (a.has("size")) size = to_size("size", a.get("size"), render::kMaxRenderSize);
+  try {
+    o.unseen = render::parse_unseen_side(a.get("unseen", "view"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--unseen: ") + e.what());
+  }
   const reconstruct::Reconstruction f = reconstruct::read_reconstruction(
-      a.positional[0], {.landmarks = a.has("mirror")});  // landmarks only when asked for
+      a.positional[0], {.landmarks = o.unseen != render::UnseenSide::Front});
   if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
   if (!view_wanted) return 0;
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   const auto synth = reconstruct::view_synthesizer(f);
-  if (a.has("mirror")) {
-    const auto plane = model::mid_sagittal_plane(f.landmarks);
-    if (!plane)
-      throw std::invalid_argument("--mirror: " + a.positional[0] +
+  if (o.unseen != render::UnseenSide::Front && !model::mid_sagittal_plane(f.landmarks)) {
+    if (a.has("unseen"))
+      throw std::invalid_argument("--unseen " + a.get("unseen") + ": " + a.positional[0] +
                                   " has no landmarks.json with left / right feature pairs");
-    synth->set_mirror_plane(plane);
+    o.unseen = render::UnseenSide::Front;
   }
   o.float_textures = !a.has("no-float");
   if (!turntable) {
     const auto r = synth->render(scaled_view_camera(f.photo_rig, w, h, yaw, pitch), o);
     write_image(with_background(r.view, transparent), out);
-    std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s)\n", out.string().c_str(), w, h, yaw,
-                pitch, render::blend_name(o.blend));
+    std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s, unseen side: %s)\n",
+                out.string().c_str(), w, h, yaw, pitch, render::blend_name(o.blend),
+                render::unseen_side_name(o.unseen));
     return 0;
   }
   std::vector<render::Tile> tiles;

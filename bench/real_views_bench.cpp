@@ -14,7 +14,8 @@
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
-// G] [--landmarker filters|network|consensus] [--no-float] [--mirror] JSON on stdout, Markdown on
+// G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
+// [--head-turn MIN_DEG] JSON on stdout, Markdown on
 // stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real +-45, dlib's
 // points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
@@ -97,7 +98,8 @@ struct Options {
   double view_gain = render::SynthesisOptions{}.view_gain;
   vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
   bool float_textures = render::SynthesisOptions{}.float_textures;
-  bool mirror = false;  // the unphotographed side from the mirrored side photo
+  render::UnseenSide unseen = render::SynthesisOptions{}.unseen;
+  double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
 };
 
 int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
@@ -146,21 +148,24 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       reconstruct::ReconstructOptions ro;
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
       ro.observe.landmarker = opt.landmarker;
+      ro.min_head_turn_deg = opt.min_head_turn_deg;
       const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
       ++reconstructed;
       const capture::RigCalibration& rig = rec.photo_rig;
       const auto synth = reconstruct::view_synthesizer(rec);
-      if (opt.mirror) synth->set_mirror_plane(model::mid_sagittal_plane(rec.landmarks));
       render::SynthesisOptions so;
       so.float_textures = opt.float_textures;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
+      so.unseen = opt.unseen;
+      // The photographed side: the yaw sign that turns the view toward the side camera.
+      const double near_sign = capture::photographed_side_sign(rig);
       auto view = [&](double yaw_deg) {
         return synth->render(capture::view_camera(rec.rig, yaw_deg, 0), so);
       };
-      // The photographed side: the yaw sign that turns the view toward the side camera.
-      const double near_sign = capture::photographed_side_sign(rig);
       r["photographed_side_yaw_sign"] = near_sign;
+      r["head_yaw_deg"] = rec.report.head_yaw_deg;
+      r["head_turn_corrected"] = rec.report.head_turn_corrected;
 
       // Reproduction at the source cameras: the view from the front camera against the front
       // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
@@ -330,8 +335,10 @@ int main(int argc, char** argv) {
         opt.view_gain = std::stod(argv[++i]);
       } else if (a == "--no-float") {
         opt.float_textures = false;
-      } else if (a == "--mirror") {
-        opt.mirror = true;
+      } else if (a == "--unseen" && i + 1 < argc) {
+        opt.unseen = render::parse_unseen_side(argv[++i]);
+      } else if (a == "--head-turn" && i + 1 < argc) {
+        opt.min_head_turn_deg = std::stod(argv[++i]);
       } else if (a == "--blend" && i + 1 < argc) {
         opt.blend = render::parse_blend(argv[++i]);
       } else {
@@ -341,7 +348,8 @@ int main(int argc, char** argv) {
     if (pos.size() != 2) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
-             "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--mirror]\n";
+             "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
+             "view|texture|front] [--head-turn MIN_DEG]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

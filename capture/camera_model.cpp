@@ -180,22 +180,34 @@ CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_
   return camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
 }
 
+CameraModel reflected(const CameraModel& camera, const Eigen::Vector4d& plane) {
+  if (const std::string why = camera_problem(camera); !why.empty())
+    throw std::invalid_argument("reflected camera: " + why);
+  const Eigen::Vector3d n = plane.head<3>();
+  if (!plane.allFinite() || std::abs(n.norm() - 1) > 1e-6)
+    throw std::invalid_argument("reflected camera: the plane's normal must be finite and unit");
+  // cam' = F cam(M p) with M p = A p + b the reflection; u' = width - u(M p) needs cx' = width -
+  // cx.
+  const Eigen::Matrix3d a = Eigen::Matrix3d::Identity() - 2 * n * n.transpose();
+  const Eigen::Vector3d b = 2 * plane.w() * n;
+  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  CameraModel c = camera;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = flip * camera.cam_from_head.linear() * a;
+  pose.translation() =
+      flip * (camera.cam_from_head.linear() * b + camera.cam_from_head.translation());
+  c.cam_from_head = pose;
+  c.cx = c.width - camera.cx;
+  if (c.distortion.size() >= 4) c.distortion[3] = -c.distortion[3];
+  return c;
+}
+
 RigCalibration photo_rig(const RigCalibration& rig, bool side_faces_left) {
   if (side_faces_left) return rig;
-  const CameraModel& s = rig.side;
-  if (const std::string why = camera_problem(s); !why.empty())
+  if (const std::string why = camera_problem(rig.side); !why.empty())
     throw std::invalid_argument("photo rig: side camera: " + why);
-  // Reflected camera: cam' = F cam(M p) with M = x -> -x in the head frame and F = x -> -x in
-  // the camera frame (F R M is a rotation again); then u' = width - u(M p) needs cx' = width - cx.
-  const Eigen::Matrix3d flip = Eigen::Vector3d(-1, 1, 1).asDiagonal();
   RigCalibration out = rig;
-  CameraModel& c = out.side;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = flip * rig.side.cam_from_head.linear() * flip;
-  pose.translation() = flip * rig.side.cam_from_head.translation();
-  c.cam_from_head = pose;
-  c.cx = c.width - rig.side.cx;
-  if (c.distortion.size() >= 4) c.distortion[3] = -c.distortion[3];
+  out.side = reflected(rig.side, Eigen::Vector4d(1, 0, 0, 0));  // through x = 0
   return out;
 }
 

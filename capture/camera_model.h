@@ -68,6 +68,13 @@ CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitc
 // std::invalid_argument for a non-finite yaw or pitch.
 CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_deg);
 
+// The camera whose image, flipped left to right, is what `camera` sees of the scene's mirror
+// image through the head-frame plane n . p = d (plane = (n, d), |n| = 1): pose F cam M with M the
+// reflection and F = x -> -x in the camera frame (a rotation again), cx' = width - cx and the
+// tangential distortion p2 negated. Throws std::invalid_argument on a camera_problem() or a
+// plane whose normal is not finite and of unit length.
+CameraModel reflected(const CameraModel& camera, const Eigen::Vector4d& plane);
+
 // The rig that took the two photos, for texturing. The model works in the head frame with the
 // side camera at +x (the face on the side image's left); when that camera stood on the subject's
 // right instead (vision's FaceObservation::side_faces_left == false), the model mirrored the side

@@ -193,6 +193,11 @@ void StereoOptions::check() const {
     throw std::invalid_argument("StereoOptions: min_height_overlap must be in [0, 1]");
 }
 
+Eigen::Vector3d point_at_depth(const capture::CameraModel& camera, const Eigen::Vector2d& px,
+                               double z_mm) {
+  return on_plane(pixel_ray(camera, px), Eigen::Vector3d::UnitZ(), z_mm);
+}
+
 Eigen::Vector3d triangulate(const capture::RigCalibration& rig, const Eigen::Vector2d& front_px,
                             const Eigen::Vector2d& side_px) {
   // Midpoint of the two rays' closest points. For the ideal rig of seed 004 (front ray along

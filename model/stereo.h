@@ -45,6 +45,10 @@ struct StereoData {
 Eigen::Vector3d triangulate(const capture::RigCalibration& rig, const Eigen::Vector2d& front_px,
                             const Eigen::Vector2d& side_px);
 
+// Where the viewing ray of pixel `px` of `camera` meets the head-frame plane z = z_mm.
+Eigen::Vector3d point_at_depth(const capture::CameraModel& camera, const Eigen::Vector2d& px,
+                               double z_mm);
+
 // Stereo matching of an observation (seed 004 §4-5). The side view must already face left
 // (observation.side_faces_left; otherwise its columns are mirrored here). Throws
 // std::invalid_argument when a coordinate is not finite, a boundary has fewer than 3 points

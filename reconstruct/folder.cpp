@@ -1,5 +1,6 @@
 // The reconstruction folder: written (all files first in a staging folder beside it) and read back,
 // here only.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -10,6 +11,7 @@
 
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
+#include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "vision/observation_io.h"
@@ -58,6 +60,10 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"rig_source", r.rig.source},
           // `orthoface render --yaw`: > 0 views the head from the subject's left (head frame +x)
           {"photographed_side_yaw_sign", capture::photographed_side_sign(r.photo_rig)},
+          // the head's turn in the front photo (> 0 toward the subject's left; null: unknown)
+          {"head_yaw_deg", std::isfinite(rep.head_yaw_deg) ? nlohmann::json(rep.head_yaw_deg)
+                                                           : nlohmann::json(nullptr)},
+          {"head_turn_corrected", rep.head_turn_corrected},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},
@@ -131,6 +137,7 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
     throw std::invalid_argument("view_synthesizer: the reconstruction has no photos");
   auto synth = std::make_unique<render::ViewSynthesizer>(r.mesh, r.photo_rig, r.front, r.side);
   synth->set_photo_masks({}, r.side_mask);
+  synth->set_mirror_plane(model::mid_sagittal_plane(r.landmarks));  // nullopt without pairs
   return synth;
 }
 

@@ -14,6 +14,7 @@
 
 #include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
+#include "model/head_turn.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
@@ -128,6 +129,8 @@ void ReconstructOptions::check() const {
   adapt.check();
   if (rig && (rig->front.width <= 0 || rig->side.width <= 0))
     throw std::invalid_argument("ReconstructOptions: rig has a camera without an image size");
+  if (!std::isfinite(min_head_turn_deg))
+    throw std::invalid_argument("ReconstructOptions: min_head_turn_deg is not finite");
 }
 
 Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
@@ -162,11 +165,20 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   }
   out.photo_rig = capture::photo_rig(out.rig, obs.side_faces_left);
   out.side_mask = vision::side_photo_mask(obs, side.size());
-  const model::StereoData data = model::stereo_match(obs, out.rig, options.stereo);
+  model::StereoData data = model::stereo_match(obs, out.rig, options.stereo);
   out.report.stage_ms.push_back({"stereo", ms_since(t)});
   t = Clock::now();
+  const auto turn = model::estimate_head_turn(obs, out.rig, data);
+  if (turn) out.report.head_yaw_deg = turn->yaw_rad * 180 / M_PI;
+  out.report.head_turn_corrected = turn && options.min_head_turn_deg >= 0 &&
+                                   std::abs(out.report.head_yaw_deg) >= options.min_head_turn_deg;
+  if (out.report.head_turn_corrected) data = model::facing_front(data, *turn);
   static const model::BaseMesh base = model::base_mesh();
-  const model::AdaptResult r = model::adapt(base, data, options.adapt);
+  model::AdaptResult r = model::adapt(base, data, options.adapt);
+  if (out.report.head_turn_corrected) {
+    model::turn_mesh(r.mesh, *turn);
+    model::turn_landmarks(r.landmarks, *turn);
+  }
   out.report.stage_ms.push_back({"adapt", ms_since(t)});
   t = Clock::now();
   out.mesh = r.mesh;

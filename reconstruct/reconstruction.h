@@ -2,6 +2,7 @@
 // (model), and the reconstruction folder, written and read here only.
 #pragma once
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <optional>
@@ -32,7 +33,11 @@ struct ReconstructOptions {
   vision::ObserveOptions observe;              // includes --side-camera
   model::StereoOptions stereo;
   model::AdaptOptions adapt;  // --method, --k
-  void check() const;         // throws std::invalid_argument
+  // A head turned in the front photo by at least this much (degrees, model::estimate_head_turn)
+  // is modelled facing front and turned back; smaller turns are taken as frontal. Negative:
+  // never (seed 004's frontal front photo).
+  double min_head_turn_deg = -1;
+  void check() const;  // throws std::invalid_argument
 };
 
 struct ReconstructionReport {
@@ -43,6 +48,10 @@ struct ReconstructionReport {
   std::vector<std::string> features_found;    // observed landmark names with 3D data
   std::string scale_note;                     // where the scale came from
   std::string front_landmarker;               // the front features' detector that ran
+  // The head's turn in the front photo (degrees, > 0 toward the subject's left), NaN when it
+  // could not be estimated; head_turn_corrected when the model was built facing front.
+  double head_yaw_deg = std::numeric_limits<double>::quiet_NaN();
+  bool head_turn_corrected = false;
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
 };
 
@@ -90,7 +99,9 @@ struct ReadOptions {
 Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& options = {});
 
 // A view synthesizer loaded with the reconstruction: its mesh, both photos where they were
-// taken, the side mask. Throws std::invalid_argument when the photos are missing.
+// taken, the side mask, and the mid-sagittal plane of its landmarks (when they hold left /
+// right pairs) for the side never photographed. Throws std::invalid_argument when the photos are
+// missing.
 std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction);
 
 // The named landmarks of a landmarks.json that write_reconstruction wrote (head frame, mm).

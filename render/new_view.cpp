@@ -123,6 +123,26 @@ const char* blend_name(Blend blend) {
   return "?";
 }
 
+UnseenSide parse_unseen_side(const std::string& name) {
+  if (name == "view") return UnseenSide::MirrorView;
+  if (name == "texture") return UnseenSide::MirrorTexture;
+  if (name == "front") return UnseenSide::Front;
+  throw std::invalid_argument("unknown unseen-side source '" + name +
+                              "' (expected view, texture or front)");
+}
+
+const char* unseen_side_name(UnseenSide unseen) {
+  switch (unseen) {
+    case UnseenSide::MirrorView:
+      return "view";
+    case UnseenSide::MirrorTexture:
+      return "texture";
+    case UnseenSide::Front:
+      return "front";
+  }
+  return "?";
+}
+
 void SynthesisOptions::check() const {
   auto bad = [](const std::string& field) {
     throw std::invalid_argument("new view options: " + field);
@@ -130,6 +150,8 @@ void SynthesisOptions::check() const {
   if (!(feather_deg >= 0 && feather_deg <= 45)) bad("feather_deg must be in 0..45");
   if (!(weighted_power > 0 && weighted_power <= 16)) bad("weighted_power must be in (0, 16]");
   if (!(view_gain >= 0 && view_gain <= 10)) bad("view_gain must be in 0..10");
+  if (!(mirror_view_from_deg >= 0 && mirror_view_from_deg <= 180))
+    bad("mirror_view_from_deg must be in 0..180");
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
     bad("visibility_tolerance_mm must be in 0..100");
 }
@@ -424,10 +446,32 @@ cv::Mat ViewSynthesizer::source_depth(int source) const {
   return impl_->src[source].depth.clone();
 }
 
+bool ViewSynthesizer::mirrors_view(const capture::CameraModel& camera,
+                                   const SynthesisOptions& o) const {
+  const Impl& m = *impl_;
+  if (o.unseen != UnseenSide::MirrorView || !m.mirror_plane) return false;
+  const Eigen::Vector3d n = m.mirror_plane->head<3>();
+  const Eigen::Vector3d to_view = toward(camera), to_side = toward(m.rig.side);
+  const double angle_deg =
+      std::acos(std::clamp(to_view.dot(toward(m.rig.front)), -1.0, 1.0)) * 180 / M_PI;
+  return to_view.dot(n) * to_side.dot(n) < 0 && angle_deg >= o.mirror_view_from_deg;
+}
+
 SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
                                         const SynthesisOptions& o) {
   o.check();
   gl::check_camera(camera, "new view: camera");
+  if (!mirrors_view(camera, o)) return render_direct(camera, o);
+  // The mirror image's view stands on the photographed side; flipped, it is this view of the
+  // mirrored head.
+  SynthesisResult r = render_direct(capture::reflected(camera, *impl_->mirror_plane), o);
+  for (cv::Mat* image : {&r.view.image, &r.view.mask, &r.view.depth_mm, &r.weights})
+    if (!image->empty()) cv::flip(*image, *image, 1);
+  return r;
+}
+
+SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camera,
+                                               const SynthesisOptions& o) {
   Impl& m = *impl_;
   m.context.make_current();
   // Attachments: the blend, the source weights, and for floating textures each photo alone.
@@ -450,7 +494,7 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   // Floating textures need both photos' colours everywhere, and the mirror image colours
   // triangles the side photo cannot see: every triangle takes the blend program (no one-photo
   // or untested classes).
-  const bool mirror = m.mirror_plane.has_value();
+  const bool mirror = m.mirror_plane.has_value() && o.unseen == UnseenSide::MirrorTexture;
   const bool sorted = o.per_pixel_visibility && o.skip_unoccluded && !floating && !mirror;
   const Eigen::Matrix4d reflect =
       mirror ? model::reflection(*m.mirror_plane) : Eigen::Matrix4d::Identity();

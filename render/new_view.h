@@ -31,6 +31,24 @@ enum class Blend {
 Blend parse_blend(const std::string& name);
 const char* blend_name(Blend blend);
 
+// Where the side never photographed takes its colour from, once the synthesizer knows the
+// subject's mid-sagittal plane (ViewSynthesizer::set_mirror_plane; without it, Front always).
+enum class UnseenSide {
+  // The whole view mirrored: a view turned toward that side by at least mirror_view_from_deg
+  // is drawn from the mirror image of its camera through the plane (on the photographed side)
+  // and flipped, so both photos keep the registration they have on the photographed side
+  // (faces are nearly symmetric; the face's own asymmetries are mirrored in such views).
+  MirrorView,
+  // The side photo's mirror image as a third texture source on that side, blended with the
+  // front photo like the photographed side (consistent only where the mesh is symmetric about
+  // the plane).
+  MirrorTexture,
+  Front,  // the front photo alone (stretched at grazing angles)
+};
+// "view", "texture" or "front"; throws std::invalid_argument naming the text otherwise.
+UnseenSide parse_unseen_side(const std::string& name);
+const char* unseen_side_name(UnseenSide unseen);
+
 struct SynthesisOptions {
   Blend blend = Blend::View;
   double feather_deg = 6;            // View, Pick: blend over +-this normal angle around the switch
@@ -46,11 +64,13 @@ struct SynthesisOptions {
   // one photo shows once. Costs two flows per view (CPU) and draws every triangle with the
   // per-pixel test; off, the blend is the shader's alone.
   bool float_textures = true;
-  cv::Scalar background{0, 0, 0};  // BGR 0..255
-  bool source_weights = false;     // also return per-pixel source weights (slower)
-  bool depth = true;               // also read back view.depth_mm; false: left empty
-                                   // (image and mask only: less readback per frame)
-  void check() const;              // throws std::invalid_argument naming the bad field
+  UnseenSide unseen = UnseenSide::MirrorView;
+  double mirror_view_from_deg = 20;  // MirrorView: from this angle between view and front camera
+  cv::Scalar background{0, 0, 0};    // BGR 0..255
+  bool source_weights = false;       // also return per-pixel source weights (slower)
+  bool depth = true;                 // also read back view.depth_mm; false: left empty
+                                     // (image and mask only: less readback per frame)
+  void check() const;                // throws std::invalid_argument naming the bad field
 };
 
 struct SynthesisResult {
@@ -101,10 +121,10 @@ class ViewSynthesizer {
   // Kept across set_photos. Throws std::invalid_argument on a wrong size or type.
   void set_photo_masks(const cv::Mat& front, const cv::Mat& side);
   // The subject's mid-sagittal plane (n, d: n . p = d, head frame, |n| = 1; model::
-  // mid_sagittal_plane): the side of the head the side camera never saw takes the side photo's
-  // colour at its mirror image through the plane, blended with the front photo as the
-  // photographed side is. nullopt (the default) leaves that side to the front photo alone.
-  // Throws std::invalid_argument on a non-unit or non-finite plane.
+  // mid_sagittal_plane): the side of the head the side camera never saw is coloured from the
+  // side photo's mirror image as SynthesisOptions::unseen says. nullopt (the default) leaves
+  // that side to the front photo alone. Throws std::invalid_argument on a non-unit or
+  // non-finite plane.
   void set_mirror_plane(const std::optional<Eigen::Vector4d>& plane);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
@@ -114,12 +134,17 @@ class ViewSynthesizer {
   // The view seen by `camera` (any projection / pose). Throws std::invalid_argument on a bad
   // camera size (0 or > kMaxRenderSize) or options.
   SynthesisResult render(const capture::CameraModel& camera, const SynthesisOptions& options = {});
+  // Whether render() draws `camera`'s view as the flipped view of its mirror image (UnseenSide::
+  // MirrorView, a plane set, the camera turned toward the side never photographed by at least
+  // options.mirror_view_from_deg).
+  bool mirrors_view(const capture::CameraModel& camera, const SynthesisOptions& options) const;
 
   const ColourMatch& colour_match() const;
   // z_cam depth map (mm, +inf where empty) of source 0 (front) or 1 (side).
   cv::Mat source_depth(int source) const;
 
  private:
+  SynthesisResult render_direct(const capture::CameraModel& camera, const SynthesisOptions& o);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -43,6 +43,10 @@ struct FaceObservation {
   // the subject's left, head +x, as in DESIGN.md); false when it was mirrored (camera on the
   // right).
   bool side_faces_left = true;
+  // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
+  // before the consensus replaced any by the filters'; empty when it did not run. The midline
+  // features above sit on the centre line; these do not, so the head's turn shows in them.
+  std::map<std::string, Feature2d> front_trained;
   std::vector<std::string> warnings;  // what is missing or doubtful, for report.json
 };
 

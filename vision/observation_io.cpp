@@ -14,21 +14,25 @@ namespace {
 
 using nlohmann::json;
 
-json view_json(const ViewObservation& v) {
-  json b = json::array();
-  for (const auto& p : v.boundary) b.push_back({p.x, p.y});
+json features_json(const std::map<std::string, Feature2d>& features) {
   json f = json::object();
-  for (const auto& [n, x] : v.features)
+  for (const auto& [n, x] : features)
     f[n] = {{"x", x.px.x},
             {"y", x.px.y},
             {"confidence", x.confidence},
             {"method", x.method},
             {"mirrored", x.mirrored}};
+  return f;
+}
+
+json view_json(const ViewObservation& v) {
+  json b = json::array();
+  for (const auto& p : v.boundary) b.push_back({p.x, p.y});
   return {{"width", v.width},
           {"height", v.height},
           {"boundary", b},
           {"boundary_confidence", v.boundary_confidence},
-          {"features", f}};
+          {"features", features_json(v.features)}};
 }
 
 const json& field(const json& j, const char* name, const std::string& where) {
@@ -47,6 +51,29 @@ double number(const json& j, const char* name, const std::string& where) {
   return d;
 }
 
+// A features object ({name: {x, y, confidence, method, mirrored}}) at `where`.
+std::map<std::string, Feature2d> features_from(const json& f, const std::string& where) {
+  if (!f.is_object())
+    throw std::invalid_argument("observation JSON: '" + where + "' is not an object");
+  std::map<std::string, Feature2d> out;
+  for (const auto& [name, x] : f.items()) {
+    if (!is_landmark_name(name))
+      throw std::invalid_argument("observation JSON: unknown landmark '" + name + "'");
+    const std::string w = where + "." + name + ".";
+    Feature2d g;
+    g.px = {number(x, "x", w), number(x, "y", w)};
+    g.confidence = number(x, "confidence", w);
+    const json& m = field(x, "method", w);
+    const json& mi = field(x, "mirrored", w);
+    if (!m.is_string() || !mi.is_boolean())
+      throw std::invalid_argument("observation JSON: '" + w + "method/mirrored' mistyped");
+    g.method = m.get<std::string>();
+    g.mirrored = mi.get<bool>();
+    out[name] = g;
+  }
+  return out;
+}
+
 ViewObservation view_from(const json& j, const std::string& where) {
   ViewObservation v;
   v.width = int(number(j, "width", where));
@@ -61,24 +88,7 @@ ViewObservation view_from(const json& j, const std::string& where) {
                                   "boundary' holds a non-[x,y] item");
     v.boundary.emplace_back(p[0].get<double>(), p[1].get<double>());
   }
-  const json& f = field(j, "features", where);
-  if (!f.is_object())
-    throw std::invalid_argument("observation JSON: '" + where + "features' is not an object");
-  for (const auto& [name, x] : f.items()) {
-    if (!is_landmark_name(name))
-      throw std::invalid_argument("observation JSON: unknown landmark '" + name + "'");
-    const std::string w = where + "features." + name + ".";
-    Feature2d g;
-    g.px = {number(x, "x", w), number(x, "y", w)};
-    g.confidence = number(x, "confidence", w);
-    const json& m = field(x, "method", w);
-    const json& mi = field(x, "mirrored", w);
-    if (!m.is_string() || !mi.is_boolean())
-      throw std::invalid_argument("observation JSON: '" + w + "method/mirrored' mistyped");
-    g.method = m.get<std::string>();
-    g.mirrored = mi.get<bool>();
-    v.features[name] = g;
-  }
+  v.features = features_from(field(j, "features", where), where + "features");
   return v;
 }
 
@@ -93,6 +103,7 @@ json to_json(const FaceObservation& o) {
             {"roll_rad", o.roll_rad},
             {"confidence", o.centre_confidence}}},
           {"side_faces_left", o.side_faces_left},
+          {"front_trained", features_json(o.front_trained)},
           {"warnings", o.warnings}};
 }
 
@@ -109,6 +120,8 @@ FaceObservation observation_from_json(const json& j) {
   if (!s.is_boolean())
     throw std::invalid_argument("observation JSON: 'side_faces_left' is not a boolean");
   o.side_faces_left = s.get<bool>();
+  if (j.contains("front_trained"))  // optional: observations written before it existed
+    o.front_trained = features_from(j.at("front_trained"), "front_trained");
   const json& w = field(j, "warnings", "");
   if (!w.is_array()) throw std::invalid_argument("observation JSON: 'warnings' is not an array");
   for (const json& x : w) {

@@ -117,7 +117,8 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 // midline and every filters' point the network confirms (see FrontLandmarker). Leaves `ff` as it
 // was (with a warning) when the weights cannot be read or no plausible face is found.
 void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
-                       FrontFeatures& ff, std::vector<std::string>& warn) {
+                       FrontFeatures& ff, std::map<std::string, Feature2d>& trained,
+                       std::vector<std::string>& warn) {
   static const std::optional<FaceLandmarker68> net = []() -> std::optional<FaceLandmarker68> {
     try {
       return FaceLandmarker68(default_model_dir());
@@ -173,6 +174,9 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   ff.centre.centre_y = mid.y;
   ff.centre.roll_rad = std::atan(-(eye_l.y - eye_r.y) / (eye_l.x - eye_r.x));
   ff.centre.confidence = 1.0;
+  for (const auto& [name, k] : kNetworkPoints) trained[name] = ff.features[name];
+  for (const char* name : {"eye_right_center", "eye_left_center", "chin"})
+    trained[name] = ff.features[name];
   if (o.landmarker != FrontLandmarker::Consensus) return;
   // Consensus: a filters' point the network confirms is kept (it sits on the photo's own edge);
   // the midline keeps the profile's rows, so the two photos agree on its heights.
@@ -238,7 +242,8 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
     *side = snap_to_colour_step(front, *side, std::vector<cv::Point2d>(side->size(), {1.0, 0.0}));
   FrontFeatures ff = front_features(front, fb, rows, H);
   if (o.use_haar && o.landmarker != FrontLandmarker::Network) haar_assist(front, o, ff, warn);
-  if (o.landmarker != FrontLandmarker::Filters) network_landmarks(front, fb, o, ff, warn);
+  std::map<std::string, Feature2d> trained;
+  if (o.landmarker != FrontLandmarker::Filters) network_landmarks(front, fb, o, ff, trained, warn);
   for (const auto& w : ff.warnings) warn.push_back(w);
   for (const auto& p : fb.left) obs.front.boundary.push_back(out_px(p));
   for (const auto& p : fb.right) obs.front.boundary.push_back(out_px(p));
@@ -247,6 +252,10 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
     Feature2d g = f;
     g.px = out_px(f.px);
     obs.front.features[n] = g;
+  }
+  for (auto [n, f] : trained) {
+    f.px = out_px(f.px);
+    obs.front_trained[n] = f;
   }
   obs.centre_x_px = ff.centre.centre_x + 0.5;
   obs.centre_y_px = ff.centre.centre_y + 0.5;

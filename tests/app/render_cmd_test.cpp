@@ -82,7 +82,7 @@ TEST(RenderCommand, TurntableAndExports) {
   EXPECT_EQ(mesh::read_mesh((work / "head.obj").string()).triangles.size(), 2u * 64 * 31);
 }
 
-TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {
+TEST(RenderCommand, UnseenSideUsesTheLandmarksMidPlane) {
   const fs::path work = testing::temp_dir("app_render_mirror");
   capture::RigCalibration rig;
   make_folder(work / "rec", rig);
@@ -90,22 +90,38 @@ TEST(RenderCommand, MirrorUsesTheLandmarksMidPlane) {
       << R"({"landmarks": {"eye_left_outer": {"xyz_mm": [40, 20, 60]},
            "eye_right_outer": {"xyz_mm": [-40, 20, 60]}, "mouth_left": {"xyz_mm": [25, -50, 70]},
            "mouth_right": {"xyz_mm": [-25, -50, 70]}}})";
-  ASSERT_EQ(run("render rec --yaw -80 --no-float -o plain.png", work), 0)
+  ASSERT_EQ(run("render rec --yaw -80 --no-float --unseen front -o plain.png", work), 0)
       << slurp(work / "err.txt");
-  ASSERT_EQ(run("render rec --yaw -80 --no-float --mirror -o mirrored.png", work), 0)
-      << slurp(work / "err.txt");
+  EXPECT_NE(slurp(work / "out.txt").find("unseen side: front"), std::string::npos);
   const cv::Mat plain = cv::imread((work / "plain.png").string());
-  const cv::Mat mirrored = cv::imread((work / "mirrored.png").string());
-  ASSERT_EQ(plain.size(), mirrored.size());
-  EXPECT_GT(cv::norm(plain, mirrored, cv::NORM_L1) / plain.total(), 1.0);  // the far side changed
-  // A broken landmarks.json stops --mirror with one error line; a plain render never reads it.
+  for (const char* mode : {"texture", "view"}) {
+    ASSERT_EQ(
+        run(std::string("render rec --yaw -80 --no-float --unseen ") + mode + " -o mirrored.png",
+            work),
+        0)
+        << slurp(work / "err.txt");
+    EXPECT_NE(slurp(work / "out.txt").find(std::string("unseen side: ") + mode), std::string::npos);
+    const cv::Mat mirrored = cv::imread((work / "mirrored.png").string());
+    ASSERT_EQ(plain.size(), mirrored.size());
+    EXPECT_GT(cv::norm(plain, mirrored, cv::NORM_L1) / plain.total(), 1.0) << mode;
+  }
+  // The default is the mirrored view.
+  ASSERT_EQ(run("render rec --yaw -80 --no-float -o default.png", work), 0);
+  EXPECT_NE(slurp(work / "out.txt").find("unseen side: view"), std::string::npos);
+  // A broken landmarks.json stops a render that needs it with one error line; --unseen front
+  // never reads it.
   std::ofstream(work / "rec" / "landmarks.json") << "{\"landmarks\": [";
-  EXPECT_NE(run("render rec --yaw -80 --mirror -o broken.png", work), 0);
+  EXPECT_NE(run("render rec --yaw -80 -o broken.png", work), 0);
   const std::string err = slurp(work / "err.txt");
   EXPECT_EQ(err.rfind("error: ", 0), 0u) << err;
   EXPECT_NE(err.find("landmarks.json"), std::string::npos) << err;
   EXPECT_FALSE(fs::exists(work / "broken.png"));
-  EXPECT_EQ(run("render rec --yaw -80 -o plain2.png", work), 0) << slurp(work / "err.txt");
+  EXPECT_EQ(run("render rec --yaw -80 --unseen front -o plain2.png", work), 0)
+      << slurp(work / "err.txt");
+  // Without landmarks.json the default falls back to the front photo and says so.
+  fs::remove(work / "rec" / "landmarks.json");
+  ASSERT_EQ(run("render rec --yaw -80 -o fallback.png", work), 0) << slurp(work / "err.txt");
+  EXPECT_NE(slurp(work / "out.txt").find("unseen side: front"), std::string::npos);
 }
 
 TEST(RenderCommand, BadInputGivesOneErrorLine) {
@@ -120,7 +136,8 @@ TEST(RenderCommand, BadInputGivesOneErrorLine) {
         "render rec --yaw 10 --background transparent -o a.jpg", "render rec --yaw 10",
         "render rec --yaw 10 --blend sharp -o a.png", "render rec --yaw 10 -o nodir/a.png",
         "render rec --export head.stl", "render rec --yaw abc -o a.png",
-        "render rec --yaw 10 --mirror -o a.png"}) {  // no landmarks.json: no mid-plane
+        "render rec --yaw 10 --unseen sideways -o a.png",
+        "render rec --yaw 10 --unseen texture -o a.png"}) {  // no landmarks.json: no mid-plane
     EXPECT_NE(run(args, work), 0) << args;
     const std::string err = slurp(work / "err.txt");
     EXPECT_EQ(err.rfind("error: ", 0), 0u) << args << ": " << err;
@@ -130,7 +147,7 @@ TEST(RenderCommand, BadInputGivesOneErrorLine) {
   }
   ASSERT_EQ(run("render --help", work), 0);
   EXPECT_NE(slurp(work / "out.txt").find("--blend"), std::string::npos);
-  EXPECT_NE(slurp(work / "out.txt").find("--mirror"), std::string::npos);
+  EXPECT_NE(slurp(work / "out.txt").find("--unseen"), std::string::npos);
 }
 
 }  // namespace

@@ -300,6 +300,30 @@ TEST(PhotoRig, TangentialDistortionIsReflected) {
   EXPECT_NEAR(project(right.side, p).x(), rig.side.width - mirrored.x(), 1e-9);
 }
 
+// Any plane: the reflected camera's image of p is the camera's image of p's mirror image,
+// flipped left to right.
+TEST(Reflected, SeesTheMirrorImageFlipped) {
+  const RigCalibration rig = ideal_rig(640, 480, 2.0);
+  const Eigen::Vector3d n = Eigen::Vector3d(1, 0.1, 0.3).normalized();
+  const Eigen::Vector4d plane(n.x(), n.y(), n.z(), 5.0);
+  for (const CameraModel& c :
+       {view_camera(rig, 30, 10), camera_at(perspective_intrinsics(), -0.4, 0.1, 900.0)}) {
+    const CameraModel r = reflected(c, plane);
+    EXPECT_NEAR(r.cam_from_head.linear().determinant(), 1.0, 1e-12);
+    for (const Eigen::Vector3d& p : {Eigen::Vector3d(10, 20, 30), Eigen::Vector3d(-40, -5, 60)}) {
+      const Eigen::Vector3d m = p - 2 * (n.dot(p) - plane.w()) * n;
+      const Eigen::Vector2d seen = project(r, p), mirrored = project(c, m);
+      EXPECT_NEAR(seen.x(), c.width - mirrored.x(), 1e-9);
+      EXPECT_NEAR(seen.y(), mirrored.y(), 1e-9);
+    }
+  }
+  EXPECT_THROW(reflected(rig.front, Eigen::Vector4d(0, 0, 0, 0)), std::invalid_argument);
+  EXPECT_THROW(reflected(rig.front, Eigen::Vector4d(NAN, 0, 0, 0)), std::invalid_argument);
+  CameraModel bad = rig.front;
+  bad.fx = 0;
+  EXPECT_THROW(reflected(bad, Eigen::Vector4d(1, 0, 0, 0)), std::invalid_argument);
+}
+
 TEST(CameraProblem, NamesWhatIsWrong) {
   const CameraModel good = ideal_rig(640, 480, 2.0).front;
   EXPECT_EQ(camera_problem(good), "");

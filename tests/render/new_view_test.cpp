@@ -416,12 +416,16 @@ namespace {
 
 // The side never photographed, from the side photo's mirror image: on a symmetric ellipsoid the
 // view from the side camera's mirror-image viewpoint is the side photo flipped left to right.
-TEST(NewView, MirroredSidePhotoColoursTheSideNeverPhotographed) {
+// Both mirror modes: the side photo's mirror image as a texture, and the whole mirrored view.
+class NewViewMirror : public ::testing::TestWithParam<UnseenSide> {};
+
+TEST_P(NewViewMirror, MirroredSidePhotoColoursTheSideNeverPhotographed) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   SynthesisOptions o;
   o.source_weights = true;
   o.float_textures = false;
+  o.unseen = GetParam();
   const double far_side = -90 * capture::photographed_side_sign(s.rig);
   const CameraModel cam = view(s.rig.front, far_side);
   auto side_share = [](const SynthesisResult& r) {
@@ -445,6 +449,62 @@ TEST(NewView, MirroredSidePhotoColoursTheSideNeverPhotographed) {
   synth.set_mirror_plane(Eigen::Vector4d(1, 0, 0, 0));
   const SynthesisResult b = synth.render(near, o);
   EXPECT_GT(psnr(a.view.image, b.view.image, a.view.mask), 45.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, NewViewMirror,
+                         ::testing::Values(UnseenSide::MirrorTexture, UnseenSide::MirrorView),
+                         [](const auto& info) {
+                           return std::string(unseen_side_name(info.param));
+                         });
+
+// MirrorView draws a view turned toward the side never photographed by at least
+// mirror_view_from_deg as its mirror image's view flipped; nearer the front camera, or with
+// another mode or no plane, the view is drawn as it is.
+TEST(NewView, MirrorViewSwitchesAtItsAngleAndIsTheFlippedOppositeView) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.float_textures = false;
+  const double far_sign = -capture::photographed_side_sign(s.rig);
+  const CameraModel far30 = view(s.rig.front, 30 * far_sign),
+                    far10 = view(s.rig.front, 10 * far_sign),
+                    near30 = view(s.rig.front, -30 * far_sign);
+  EXPECT_FALSE(synth.mirrors_view(far30, o));  // no plane yet
+  synth.set_mirror_plane(Eigen::Vector4d(1, 0, 0, 0));
+  EXPECT_TRUE(synth.mirrors_view(far30, o));
+  EXPECT_FALSE(synth.mirrors_view(far10, o));   // below 20 deg
+  EXPECT_FALSE(synth.mirrors_view(near30, o));  // the photographed side
+  o.mirror_view_from_deg = 5;
+  EXPECT_TRUE(synth.mirrors_view(far10, o));
+  o.mirror_view_from_deg = 20;
+  SynthesisOptions front = o;
+  front.unseen = UnseenSide::Front;
+  EXPECT_FALSE(synth.mirrors_view(far30, front));
+  const SynthesisResult mirrored = synth.render(far30, o);
+  const SynthesisResult opposite =
+      synth.render(capture::reflected(far30, Eigen::Vector4d(1, 0, 0, 0)), front);
+  cv::Mat flipped, flipped_mask;
+  cv::flip(opposite.view.image, flipped, 1);
+  cv::flip(opposite.view.mask, flipped_mask, 1);
+  EXPECT_EQ(cv::countNonZero(flipped_mask != mirrored.view.mask), 0);
+  EXPECT_GT(psnr(flipped, mirrored.view.image, mirrored.view.mask), 60.0);
+  // The front photo alone differs on the far side (it sees it at a grazing angle).
+  const SynthesisResult plain = synth.render(far30, front);
+  EXPECT_GT(cv::norm(plain.view.image, mirrored.view.image, cv::NORM_L1), 0.0);
+}
+
+TEST(NewView, UnseenSideNamesRoundTripAndBadOnesAreRefused) {
+  for (UnseenSide u : {UnseenSide::MirrorView, UnseenSide::MirrorTexture, UnseenSide::Front})
+    EXPECT_EQ(parse_unseen_side(unseen_side_name(u)), u);
+  EXPECT_THROW(parse_unseen_side("mirror"), std::invalid_argument);
+  EXPECT_THROW(parse_unseen_side(""), std::invalid_argument);
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  for (double bad : {-1.0, 181.0, double(NAN)}) {
+    SynthesisOptions o;
+    o.mirror_view_from_deg = bad;
+    EXPECT_THROW(synth.render(s.rig.front, o), std::invalid_argument) << bad;
+  }
 }
 
 TEST(NewView, MirrorPlaneMustBeAUnitNormal) {

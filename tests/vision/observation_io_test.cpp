@@ -18,6 +18,7 @@ TEST(ObservationIo, RoundTripAndMalformed) {
   o.roll_rad = 0.01;
   o.side_faces_left = false;
   o.warnings = {"w1"};
+  o.front_trained["nose_tip"] = {{322.25, 241}, 0.9, "network-68", false};
   const auto dir = orthoface::testing::temp_dir("observation_io");
   ov::write_observation(o, (dir / "observation.json").string());
   const ov::FaceObservation r = ov::read_observation((dir / "observation.json").string());
@@ -26,7 +27,13 @@ TEST(ObservationIo, RoundTripAndMalformed) {
   EXPECT_TRUE(r.side.features.at("chin").mirrored);
   EXPECT_FALSE(r.side_faces_left);
   EXPECT_EQ(r.warnings, o.warnings);
+  EXPECT_DOUBLE_EQ(r.front_trained.at("nose_tip").px.x, 322.25);
   auto j = ov::to_json(o);
+  j.erase("front_trained");  // written before the field existed: still read
+  EXPECT_TRUE(ov::observation_from_json(j).front_trained.empty());
+  j["front_trained"] = {{"nose_tip", {{"x", "left"}}}};
+  EXPECT_THROW(ov::observation_from_json(j), std::invalid_argument);
+  j = ov::to_json(o);
   j["front"]["features"]["not_a_landmark"] = j["front"]["features"]["nose_tip"];
   EXPECT_THROW(ov::observation_from_json(j), std::invalid_argument);
   j = ov::to_json(o);
