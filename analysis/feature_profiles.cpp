@@ -58,11 +58,10 @@ std::vector<int> profile_extrema(const std::vector<ProfileSample>& profile, bool
 
 namespace {
 
-void add_point(const mesh::TriMesh& mesh, FeatureReport& r, const std::string& name, int vertex,
-               const std::string& helper_description = "") {
+void add_point(const mesh::TriMesh& mesh, FeatureReport& r, const std::string& name, int vertex) {
   FoundPoint p;
   p.name = name;
-  p.description = helper_description.empty() ? mpeg4_description(name) : helper_description;
+  p.description = mpeg4_description(name);  // MPEG-4 or helper point
   p.vertex = vertex;
   p.position = mesh.vertices[vertex];
   r.points.push_back(p);
@@ -71,8 +70,8 @@ void add_point(const mesh::TriMesh& mesh, FeatureReport& r, const std::string& n
 // A point on a profile: at the section point itself (a coarse mesh's nearest vertex may be
 // several mm off the plane).
 void add_point(const mesh::TriMesh& mesh, FeatureReport& r, const std::string& name,
-               const ProfileSample& sample, const std::string& helper_description = "") {
-  add_point(mesh, r, name, sample.vertex, helper_description);
+               const ProfileSample& sample) {
+  add_point(mesh, r, name, sample.vertex);
   r.points.back().position = sample.point;
 }
 
@@ -153,14 +152,9 @@ void midline_points(const mesh::TriMesh& mesh, const LocalFrame& fr, const Featu
   struct Step {
     const char* name;
     bool peak;
-    const char* helper;
   };
-  const Step steps[] = {{"9.15", false, ""},
-                        {"8.1", true, ""},
-                        {"2.2", false, ""},
-                        {"8.2", true, ""},
-                        {"sulcus", false, "mentolabial sulcus (helper)"},
-                        {"2.10", true, ""}};
+  const Step steps[] = {{"9.15", false}, {"8.1", true},     {"2.2", false},
+                        {"8.2", true},   {"sulcus", false}, {"2.10", true}};
   double s = s_nose;
   bool chain = true;  // every step found
   for (const Step& st : steps) {
@@ -171,7 +165,7 @@ void midline_points(const mesh::TriMesh& mesh, const LocalFrame& fr, const Featu
       chain = false;
       break;
     }
-    add_point(mesh, r, st.name, prof[*i], st.helper);
+    add_point(mesh, r, st.name, prof[*i]);
     s = prof[*i].s;
   }
   // 9.15 again, now that the upper lip (8.1) is known.
@@ -188,7 +182,7 @@ void midline_points(const mesh::TriMesh& mesh, const LocalFrame& fr, const Featu
     r.missing.push_back("2.1: mid-plane profile ends at the chin boss");
   const auto nasion = next_extremum(prof, troughs, s_nose, false, 0.4 * D);
   if (nasion)
-    add_point(mesh, r, "nasion", prof[*nasion], "deepest point between the eyes (helper)");
+    add_point(mesh, r, "nasion", prof[*nasion]);
   else
     r.missing.push_back("nasion: no trough on the mid-plane profile above the nose tip");
 }

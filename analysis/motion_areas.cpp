@@ -152,11 +152,13 @@ std::vector<FeaturePoint> read_feature_points(const std::string& path, bool allo
   if (out.empty()) throw std::runtime_error(path + ": no feature points");
   std::string unknown;
   for (const auto& p : out)
-    if (!allow_any_names && !is_mpeg4_name(p.name) && !vision::is_landmark_name(p.name))
+    if (!allow_any_names && !is_feature_point_name(p.name) && !vision::is_landmark_name(p.name))
       unknown += (unknown.empty() ? "" : ", ") + p.name;
   if (!unknown.empty())
-    throw std::runtime_error(path + ": unknown feature point name(s): " + unknown +
-                             " (expected MPEG-4 names like 9.3 or landmark names like nose_tip)");
+    throw std::runtime_error(
+        path + ": unknown feature point name(s): " + unknown +
+        " (expected MPEG-4 names like 9.3, the helpers nasion and sulcus, or landmark names "
+        "like nose_tip)");
   return out;
 }
 

@@ -74,8 +74,24 @@ bool is_mpeg4_name(std::string_view name) {
   return false;
 }
 
+const std::vector<Mpeg4Name>& helper_point_names() {
+  static const std::vector<Mpeg4Name> names = {
+      {"nasion", "deepest point between the eyes (helper)"},
+      {"sulcus", "mentolabial sulcus (helper)"}};
+  return names;
+}
+
+bool is_feature_point_name(std::string_view name) {
+  if (is_mpeg4_name(name)) return true;
+  for (const auto& n : helper_point_names())
+    if (n.name == name) return true;
+  return false;
+}
+
 std::string mpeg4_description(std::string_view name) {
   for (const auto& n : mpeg4_names())
+    if (n.name == name) return std::string(n.description);
+  for (const auto& n : helper_point_names())
     if (n.name == name) return std::string(n.description);
   throw std::invalid_argument("mpeg4_description: unknown MPEG-4 feature point '" +
                               std::string(name) + "'");

@@ -19,7 +19,14 @@ const std::vector<Mpeg4Name>& mpeg4_names();
 // True when `name` is in mpeg4_names().
 bool is_mpeg4_name(std::string_view name);
 
-// Description of an MPEG-4 point; throws std::invalid_argument for an unknown name.
+// The helper points `features` finds besides the MPEG-4 ones (on the mid-plane profile):
+// "nasion" (the deepest point between the eyes) and "sulcus" (the mentolabial sulcus).
+const std::vector<Mpeg4Name>& helper_point_names();
+
+// True for an MPEG-4 name or a helper point name: every name `features` writes.
+bool is_feature_point_name(std::string_view name);
+
+// Description of an MPEG-4 or helper point; throws std::invalid_argument for an unknown name.
 std::string mpeg4_description(std::string_view name);
 
 }  // namespace orthoface::analysis

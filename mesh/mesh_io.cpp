@@ -226,7 +226,11 @@ TriMesh read_obj(const std::string& path, const MeshReadOptions& options) {
     } else if (!mtllib.empty() && any_uv) {
       const auto mtl = std::filesystem::path(path).parent_path() / mtllib;
       const std::string image = mtl_texture(mtl.string(), path);
-      if (!image.empty()) m.texture = load_texture((mtl.parent_path() / image).string(), path);
+      // The image is named relative to the MTL, the MTL relative to the mesh: load_texture takes
+      // a path relative to the mesh's folder.
+      if (!image.empty())
+        m.texture =
+            load_texture((std::filesystem::path(mtllib).parent_path() / image).string(), path);
     }
   }
   validate_read(m, path);

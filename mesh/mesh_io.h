@@ -8,7 +8,8 @@ namespace orthoface::mesh {
 
 struct MeshReadOptions {
   bool load_texture = true;  // OBJ map_Kd, PLY "comment TextureFile", glTF images
-  std::string texture_path;  // when set, this image is the texture (overrides the file's)
+  std::string texture_path;  // when set, this image is the texture (overrides the file's);
+                             // a relative path is taken from the mesh file's folder
   // glTF stores v = 0 at the TOP of the image and is flipped into TriMesh's bottom-origin v.
   // Files exported with OBJ-style UVs (e.g. three.js LeePerrySmith.glb) need this set.
   bool gltf_uv_bottom_origin = false;

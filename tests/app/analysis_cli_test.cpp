@@ -73,6 +73,22 @@ TEST(AnalysisCli, SegmentRejectsUnknownPointNames) {
   EXPECT_TRUE(fs::exists(w / "seg" / "segment.png"));
 }
 
+// The commands chained as a user would: a textured OBJ that `simulate` wrote, named by a path
+// relative to the working folder (its texture once went missing under "sim/sim/truth.png"), then
+// `segment` on the points `features` wrote (once refused: "unknown ... nasion").
+TEST(AnalysisCli, FeaturesOfARelativeTexturedObjFeedSegment) {
+  const fs::path w = testing::temp_dir("analysis_cli_chain");
+  const Result sim = orthoface("simulate --subject 3 --out sim", w);
+  ASSERT_EQ(sim.code, 0) << sim.err;
+  const Result f = orthoface("features sim/truth.obj -o feat", w);
+  ASSERT_EQ(f.code, 0) << f.err;
+  const std::string written = slurp(w / "feat" / "features.json");
+  EXPECT_NE(written.find("\"nasion\""), std::string::npos);
+  const Result seg = orthoface("segment sim/truth.obj --points feat/features.json -o seg", w);
+  ASSERT_EQ(seg.code, 0) << seg.err;
+  EXPECT_TRUE(fs::exists(w / "seg" / "membership.csv"));
+}
+
 TEST(AnalysisCli, SimilarityNeedsTwoMeshesAndScoresAPair) {
   const fs::path w = testing::temp_dir("analysis_cli_similarity");
   expect_clean_error(orthoface("similarity only.obj", w), "two meshes");

@@ -68,6 +68,31 @@ TEST(MeshIo, ObjRoundTripKeepsUvsColoursAndTexture) {
   EXPECT_EQ(cv::norm(r.texture, m.texture, cv::NORM_INF), 0);
 }
 
+// The texture is found through a relative mesh path and through an MTL in another folder (the
+// image is named relative to the MTL, the MTL relative to the OBJ).
+TEST(MeshIo, ObjTextureFoundThroughRelativePaths) {
+  const auto dir = testing::temp_dir("mesh_io_obj_relative");
+  const TriMesh m = textured_tetrahedron();
+  fs::create_directories(dir / "sub" / "mat");
+  write_mesh(m, (dir / "sub" / "tet.obj").string());
+  const fs::path before = fs::current_path();
+  fs::current_path(dir);
+  TriMesh r;
+  EXPECT_NO_THROW(r = read_mesh("sub/tet.obj"));
+  fs::current_path(before);
+  ASSERT_FALSE(r.texture.empty());
+  EXPECT_EQ(cv::norm(r.texture, m.texture, cv::NORM_INF), 0);
+  fs::rename(dir / "sub" / "tet.png", dir / "sub" / "mat" / "skin.png");
+  write_text(dir / "sub" / "mat" / "tet.mtl", "newmtl skin\nmap_Kd skin.png\n");
+  std::ifstream in(dir / "sub" / "tet.obj");
+  std::string obj((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  obj.replace(obj.find("mtllib tet.mtl"), 14, "mtllib mat/tet.mtl");
+  write_text(dir / "sub" / "tet.obj", obj);
+  const TriMesh q = read_mesh((dir / "sub" / "tet.obj").string());
+  ASSERT_FALSE(q.texture.empty());
+  EXPECT_EQ(cv::norm(q.texture, m.texture, cv::NORM_INF), 0);
+}
+
 TEST(MeshIo, PlyRoundTripBinaryAndAscii) {
   const auto dir = testing::temp_dir("mesh_io_ply");
   const TriMesh m = textured_tetrahedron();
