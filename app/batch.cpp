@@ -17,6 +17,7 @@
 
 #include "analysis/similarity.h"
 #include "capture/camera_model.h"
+#include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "reconstruct/reconstruction.h"
 
@@ -25,13 +26,60 @@ using namespace orthoface;
 
 namespace {
 
-constexpr int kTagDone = 1;
+constexpr int kTagDone = 1, kTagErrors = 2;
 
 const char* kUsage =
-    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.png + side.png [+ "
-    "rig.yaml])\n"
+    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.* + side.* [+ rig.yaml];\n"
+    "                                                 PNG, JPEG, BMP, TIFF, WebP, PPM/PGM)\n"
     "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
-    "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n";
+    "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n"
+    "       Every item is tried; OUT/batch_report.json gives each one's result and, for a failed\n"
+    "       one, why. Exit 0 when all succeed, 1 when any failed (after all were tried), 2 on\n"
+    "       bad arguments.\n";
+
+// The photo named `stem` (front / side, any case) in an item folder: one file with an image
+// extension OpenCV reads. Throws std::runtime_error naming what is missing or ambiguous.
+fs::path item_photo(const fs::path& folder, const std::string& stem) {
+  static const char* kExts[] = {".png",  ".jpg",  ".jpeg", ".bmp", ".tif",
+                                ".tiff", ".webp", ".ppm",  ".pgm"};
+  std::vector<fs::path> found;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    std::string name = e.path().filename().string(), ext = e.path().extension().string();
+    std::transform(name.begin(), name.end(), name.begin(), ::tolower);
+    std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
+    if (!e.is_regular_file() || name != stem + ext) continue;
+    for (const char* x : kExts)
+      if (ext == x) found.push_back(e.path());
+  }
+  if (found.empty())
+    throw std::runtime_error("no " + stem + " image (" + stem + ".png, .jpg, ...)");
+  if (found.size() > 1)
+    throw std::runtime_error("more than one " + stem + " image (" + found[0].filename().string() +
+                             ", " + found[1].filename().string() + ")");
+  return found[0];
+}
+
+// Each rank's error messages (item index -> text) gathered on rank 0.
+void gather_errors(std::vector<std::string>& errors, int rank, int size) {
+  if (rank != 0) {
+    nlohmann::json j = nlohmann::json::object();
+    for (size_t i = 0; i < errors.size(); ++i)
+      if (!errors[i].empty()) j[std::to_string(i)] = errors[i];
+    const std::string text = j.dump();
+    MPI_Send(text.data(), int(text.size()), MPI_CHAR, 0, kTagErrors, MPI_COMM_WORLD);
+    return;
+  }
+  for (int r = 1; r < size; ++r) {
+    MPI_Status st;
+    MPI_Probe(r, kTagErrors, MPI_COMM_WORLD, &st);
+    int count = 0;
+    MPI_Get_count(&st, MPI_CHAR, &count);
+    std::string text(size_t(count), '\0');
+    MPI_Recv(text.data(), count, MPI_CHAR, r, kTagErrors, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+    const nlohmann::json j = nlohmann::json::parse(text);  // outlives the loop over its items
+    for (const auto& [i, msg] : j.items()) errors.at(std::stoul(i)) = msg.get<std::string>();
+  }
+}
 
 // Rank 0: draws "[#####.....] done/total" from its own count plus messages from the others.
 struct Progress {
@@ -83,13 +131,13 @@ void gather_status(std::vector<double>& status, std::vector<double>& ms) {
 }
 
 int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
-  std::vector<fs::path> items;
+  std::vector<fs::path> items;  // every sub-folder: one without its photos is a failed item
   for (const auto& e : fs::directory_iterator(dir))
-    if (e.is_directory() && fs::exists(e.path() / "front.png") && fs::exists(e.path() / "side.png"))
+    if (e.is_directory() && !(fs::exists(out) && fs::equivalent(e.path(), out)))
       items.push_back(e.path());
   std::sort(items.begin(), items.end());
   const int n = int(items.size());
-  if (n == 0) throw std::runtime_error(dir.string() + ": no <name>/front.png + side.png folders");
+  if (n == 0) throw std::runtime_error(dir.string() + ": no <name>/ folders with front + side");
   Progress progress{n, 0};
   std::vector<double> status(n, 0.0), ms(n, 0.0);
   std::vector<std::string> errors(n);
@@ -99,12 +147,18 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
       reconstruct::ReconstructOptions o;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
-      const cv::Mat front = cv::imread((items[i] / "front.png").string());
-      const cv::Mat side = cv::imread((items[i] / "side.png").string());
-      const reconstruct::Reconstruction r = reconstruct::from_photos(front, side, o);
+      cv::Mat photos[2];
+      for (int k = 0; k < 2; ++k) {
+        const fs::path p = item_photo(items[i], k == 0 ? "front" : "side");
+        photos[k] = cv::imread(p.string(), cv::IMREAD_COLOR);
+        if (photos[k].empty())
+          throw std::runtime_error(p.filename().string() + ": not a readable image");
+      }
+      const reconstruct::Reconstruction r = reconstruct::from_photos(photos[0], photos[1], o);
       reconstruct::write_reconstruction(r, (out / items[i].filename()).string());
       status[i] = 1.0;
     } catch (const std::exception& e) {
+      errors[i] = e.what();
       std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
     }
     ms[i] =
@@ -112,17 +166,21 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
     item_done(rank, progress);
   }
   gather_status(status, ms);
+  gather_errors(errors, rank, size);
   if (rank != 0) return 0;
   while (progress.done < n) progress.poll();
   nlohmann::json j{{"ranks", size}, {"pairs", n}};
   int ok = 0;
   for (int i = 0; i < n; ++i) {
     ok += status[i] > 0.5;
-    j["items"].push_back(
-        {{"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}});
+    nlohmann::json item{
+        {"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}};
+    if (status[i] <= 0.5) item["error"] = errors[i];
+    j["items"].push_back(item);
   }
   j["ok"] = ok;
-  std::ofstream(out / "batch_report.json") << j.dump(2) << "\n";
+  j["failed"] = n - ok;
+  io::write_text_atomically((out / "batch_report.json").string(), j.dump(2) + "\n");
   std::printf("batch: %d / %d pairs reconstructed on %d rank(s) -> %s\n", ok, n, size, out.c_str());
   return ok == n ? 0 : 1;
 }
@@ -214,6 +272,9 @@ int main(int argc, char** argv) {
       rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, rank, size)
                                           : run_similarity_matrix(dir, out, rank, size);
     }
+  } catch (const std::invalid_argument& e) {
+    if (rank == 0) std::fprintf(stderr, "error: %s\n", e.what());
+    rc = 2;
   } catch (const std::exception& e) {
     if (rank == 0) std::fprintf(stderr, "error: %s\n", e.what());
     rc = 1;

@@ -4,9 +4,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "mesh/mesh_io.h"
 #include "sim/head.h"
@@ -126,6 +129,51 @@ TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   EXPECT_EQ(slurp(w / "one" / "similarity_shape_index.csv"),
             slurp(w / "two" / "similarity_shape_index.csv"));
   expect_clean_error(run("'" + batch.string() + "'", "similarity nowhere -o x", w), "nowhere");
+}
+
+// orthoface-batch pairs takes the photo types `reconstruct` takes, tries every item, says why
+// each failed one failed, and exits 1 only after the others are done (once: PNG only, failures
+// without a reason, a folder missing a photo skipped in silence).
+TEST(AnalysisCli, BatchPairsTakesJpegAndRecordsEachFailure) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch_pairs");
+  ASSERT_EQ(orthoface("simulate --subject 3 --out sim", w).code, 0);
+  const cv::Mat front = cv::imread((w / "sim" / "front.png").string());
+  const cv::Mat side = cv::imread((w / "sim" / "side.png").string());
+  for (const char* d : {"pairs/a_jpeg", "pairs/b_png", "pairs/c_no_side", "pairs/d_broken"})
+    fs::create_directories(w / d);
+  cv::imwrite((w / "pairs/a_jpeg/Front.JPG").string(), front);
+  cv::imwrite((w / "pairs/a_jpeg/side.jpeg").string(), side);
+  cv::imwrite((w / "pairs/b_png/front.png").string(), front);
+  cv::imwrite((w / "pairs/b_png/side.png").string(), side);
+  cv::imwrite((w / "pairs/c_no_side/front.png").string(), front);
+  std::ofstream(w / "pairs/d_broken/front.png") << "not a png";
+  cv::imwrite((w / "pairs/d_broken/side.png").string(), side);
+  for (const std::string& launcher : {std::string(), std::string("mpirun -np 2 --allow-run-as-root "
+                                                                 "--oversubscribe ")}) {
+    const std::string out = launcher.empty() ? "one" : "two";
+    const Result r = run(launcher + "'" + batch.string() + "'", "pairs pairs -o " + out, w);
+    if (launcher.empty())
+      EXPECT_EQ(r.code, 1) << r.err;
+    else
+      EXPECT_NE(r.code, 0) << r.err;  // mpirun reports rank 0's failure in its own way
+    const auto j = nlohmann::json::parse(slurp(w / out / "batch_report.json"));
+    EXPECT_EQ(j["pairs"], 4);
+    EXPECT_EQ(j["ok"], 2);
+    EXPECT_EQ(j["failed"], 2);
+    std::map<std::string, nlohmann::json> items;
+    for (const auto& it : j["items"]) items[it["name"].get<std::string>()] = it;
+    EXPECT_TRUE(items["a_jpeg"]["ok"].get<bool>()) << launcher;
+    EXPECT_TRUE(items["b_png"]["ok"].get<bool>()) << launcher;
+    EXPECT_TRUE(fs::exists(w / out / "a_jpeg" / "head.obj"));
+    EXPECT_NE(items["c_no_side"]["error"].get<std::string>().find("no side image"),
+              std::string::npos)
+        << launcher;
+    EXPECT_NE(items["d_broken"]["error"].get<std::string>().find("front.png"), std::string::npos)
+        << launcher;
+  }
+  EXPECT_EQ(run("'" + batch.string() + "'", "pairs", w).code, 2);
 }
 
 }  // namespace
