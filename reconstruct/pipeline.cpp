@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -121,6 +122,18 @@ void fill_report(const vision::FaceObservation& obs, const model::StereoData& da
   rep.folds_remaining = r.folds_remaining;
 }
 
+// A rig file is for one image size per camera: photos of another size would be modelled with
+// the wrong intrinsics and then refused by every view.
+void check_rig_fits(const capture::RigCalibration& rig, const cv::Mat& front, const cv::Mat& side) {
+  for (auto [name, cam, photo] : {std::tuple{"front", &rig.front, &front}, {"side", &rig.side, &side}})
+    if (!photo->empty() && (cam->width != photo->cols || cam->height != photo->rows))
+      throw std::invalid_argument("rig (" + rig.source + "): the " + name + " camera is " +
+                                  std::to_string(cam->width) + "x" + std::to_string(cam->height) +
+                                  " but the " + name + " photo is " +
+                                  std::to_string(photo->cols) + "x" +
+                                  std::to_string(photo->rows));
+}
+
 }  // namespace
 
 void ReconstructOptions::check() const {
@@ -138,6 +151,7 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
   options.check();
   if (front.empty()) throw std::invalid_argument("front photo is empty");
   if (side.empty()) throw std::invalid_argument("side photo is empty");
+  if (options.rig) check_rig_fits(*options.rig, front, side);
   const auto t0 = Clock::now();
   const vision::FaceObservation obs = vision::observe(front, side, options.observe);
   const double observe_ms = ms_since(t0);
@@ -158,6 +172,7 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   out.side = side;
   auto t = Clock::now();
   if (options.rig) {
+    check_rig_fits(*options.rig, front, side);
     out.rig = *options.rig;
     out.report.scale_note = "rig file (" + out.rig.source + "): true scale";
   } else {

@@ -101,6 +101,10 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
                      "not_image.png");
   std::ofstream(*work_ / "bad_rig.yaml") << "%YAML:1.0\n---\northoface_rig: 1\nfront: [1, 2\n";
   expect_clean_error("reconstruct " + ok + " --rig bad_rig.yaml", "bad_rig.yaml");
+  // A rig for another image size: refused before anything is written (it was accepted, and the
+  // model then refused by `render`).
+  ASSERT_EQ(run("simulate --subject 2 --size 800x600 --out sim800", *work_).code, 0);
+  expect_clean_error("reconstruct " + ok + " --rig sim800/rig.yaml", "800x600");
   // Photos without a face: nothing to reconstruct.
   cv::imwrite((*work_ / "blank.png").string(),
               cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200)));
