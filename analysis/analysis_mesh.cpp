@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "mesh/topology.h"
+
 namespace orthoface::analysis {
 namespace {
 
@@ -124,6 +126,14 @@ AnalysisMesh analysis_mesh(const mesh::TriMesh& mesh, const std::string& what,
   if (out.components > 1)
     out.warnings.push_back(std::to_string(out.components) + " connected components" +
                            (keep_largest_component ? ": only the largest is analysed" : ""));
+  const mesh::TopologyReport topo = mesh::topology_report(out.mesh);
+  if (!topo.manifold())
+    out.warnings.push_back(
+        "not a manifold: " + std::to_string(topo.non_manifold_edges) +
+        " edge(s) shared by more than two triangles, " +
+        std::to_string(topo.non_manifold_vertices) +
+        " vertex(es) joining separate fans; analysed as they are (geodesics and curvatures may "
+        "be off there)");
   return out;
 }
 

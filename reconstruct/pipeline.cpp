@@ -125,13 +125,13 @@ void fill_report(const vision::FaceObservation& obs, const model::StereoData& da
 // A rig file is for one image size per camera: photos of another size would be modelled with
 // the wrong intrinsics and then refused by every view.
 void check_rig_fits(const capture::RigCalibration& rig, const cv::Mat& front, const cv::Mat& side) {
-  for (auto [name, cam, photo] : {std::tuple{"front", &rig.front, &front}, {"side", &rig.side, &side}})
+  for (auto [name, cam, photo] :
+       {std::tuple{"front", &rig.front, &front}, {"side", &rig.side, &side}})
     if (!photo->empty() && (cam->width != photo->cols || cam->height != photo->rows))
       throw std::invalid_argument("rig (" + rig.source + "): the " + name + " camera is " +
                                   std::to_string(cam->width) + "x" + std::to_string(cam->height) +
-                                  " but the " + name + " photo is " +
-                                  std::to_string(photo->cols) + "x" +
-                                  std::to_string(photo->rows));
+                                  " but the " + name + " photo is " + std::to_string(photo->cols) +
+                                  "x" + std::to_string(photo->rows));
 }
 
 }  // namespace

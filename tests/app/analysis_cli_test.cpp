@@ -92,6 +92,25 @@ TEST(AnalysisCli, FeaturesOfARelativeTexturedObjFeedSegment) {
   EXPECT_TRUE(fs::exists(w / "seg" / "membership.csv"));
 }
 
+// A non-manifold edge (a fin of a third triangle) is analysed, and the run says so (it was
+// accepted in silence).
+TEST(AnalysisCli, FeaturesSayWhenTheMeshIsNotAManifold) {
+  const fs::path w = testing::temp_dir("analysis_cli_nonmanifold");
+  sim::HeadOptions o;
+  o.target_triangles = 2000;
+  mesh::TriMesh m = sim::make_head(sim::head_params(0), o).mesh;
+  const auto t = m.triangles[0];
+  m.vertices.push_back((m.vertices[t[0]] + m.vertices[t[1]]) / 2 + Eigen::Vector3d(0, 0, 8));
+  m.triangles.push_back({t[0], t[1], int(m.vertices.size()) - 1});
+  if (!m.uvs.empty()) m.uvs.push_back(m.uvs[t[0]]);
+  if (!m.colors.empty()) m.colors.push_back(m.colors[t[0]]);
+  mesh::write_mesh(m, (w / "fin.ply").string());
+  const Result r = orthoface("features fin.ply -o feat", w);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("not a manifold: 1 edge(s)"), std::string::npos) << r.out;
+  EXPECT_NE(slurp(w / "feat" / "features.json").find("not a manifold"), std::string::npos);
+}
+
 TEST(AnalysisCli, SimilarityNeedsTwoMeshesAndScoresAPair) {
   const fs::path w = testing::temp_dir("analysis_cli_similarity");
   expect_clean_error(orthoface("similarity only.obj", w), "two meshes");
