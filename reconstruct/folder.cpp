@@ -11,9 +11,11 @@
 
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
+#include "mesh/topology.h"
 #include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
+#include "render/textured_export.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
 
@@ -74,6 +76,9 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"folds_remaining", rep.folds_remaining},
           {"mesh",
            {{"file", "head.obj"},
+            {"texture",
+             "head.png: both photos, each triangle from the one that sees it and "
+             "that it faces more (as render --export)"},
             {"vertices", r.mesh.vertices.size()},
             {"triangles", r.mesh.triangles.size()}}}};
 }
@@ -88,7 +93,10 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   std::error_code ec;
   try {
     fs::create_directories(tmp);
-    mesh::write_mesh(r.mesh, (tmp / "head.obj").string());
+    // The textured model: each triangle from the photo that sees it and that it faces more (the
+    // same texture as `render --export`), in an atlas of both photos.
+    mesh::write_mesh(render::inherit_texture(r.mesh, r.photo_rig, r.front, r.side).mesh,
+                     (tmp / "head.obj").string());
     write_png(r.front, tmp / "front.png");
     write_png(r.side, tmp / "side.png");
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());
@@ -117,8 +125,11 @@ Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& op
     if (image->empty()) throw std::runtime_error(what + ": cannot read image " + name);
   }
   mesh::MeshReadOptions ro;
-  ro.load_texture = false;  // head.png is the front photo
-  r.mesh = mesh::read_mesh((in / "head.obj").string(), ro);
+  ro.load_texture = false;  // views and exports texture the mesh from the photos themselves
+  // The atlas splits vertices where triangles of the two photos meet: welded back into the mesh
+  // that was modelled.
+  r.mesh = mesh::weld(mesh::read_mesh((in / "head.obj").string(), ro));
+  r.mesh.uvs.clear();
   r.rig = fs::exists(in / "rig.yaml") ? capture::read_rig((in / "rig.yaml").string())
                                       : capture::ideal_rig(r.front.cols, r.front.rows, 1.6);
   r.photo_rig = r.rig;

@@ -80,14 +80,16 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
 Reconstruction from_observation(const vision::FaceObservation& observation, const cv::Mat& front,
                                 const cv::Mat& side, const ReconstructOptions& options = {});
 
-// Writes the reconstruction folder (DESIGN.md): head.obj head.mtl head.png, front.png,
+// Writes the reconstruction folder (DESIGN.md): head.obj head.mtl head.png (the textured model:
+// render::inherit_texture, the same texture as `render --export`), front.png,
 // side.png, rig.yaml, landmarks.json, observation.json, report.json. Files are written into a
 // hidden staging folder beside DIR (io::temp_path_for) and moved into DIR only when all
 // succeeded. Throws std::runtime_error naming
 // the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 
-// A reconstruction folder read back: mesh (its uvs index `front`; no texture image), photos, rig,
+// A reconstruction folder read back: mesh (welded where the atlas split it; no uvs, no texture:
+// views texture it from the photos), photos, rig,
 // observation, the rig as the photos were taken and the side mask, landmarks when landmarks.json is
 // there. The report is not read (report.json is for people). A folder without rig.yaml gets the
 // ideal rig at 1.6 px/mm; without observation.json the side mask is empty and the side camera is

@@ -128,24 +128,37 @@ InheritedMesh inherit_texture(const mesh::TriMesh& mesh, const capture::RigCalib
     x += crop[i].width;
   }
   const Eigen::Vector2d fill_uv((x + patch / 2.0) / width, 1.0 - (patch / 2.0) / height);
-  // Vertices split per source: index = 3 * vertex + (source + 1).
+  // Each vertex keeps its index for the first photo (or fill) that uses it; where triangles of
+  // another source meet it, a copy is appended (index = 3 * vertex + (source + 1)), so welding
+  // the copies gives back the input mesh in its own vertex order.
+  auto uv_of = [&](int v, int s) -> Eigen::Vector2d {
+    if (s < 0) return fill_uv;
+    const Eigen::Vector2d px = capture::project(*p.cams[s], mesh.vertices[v]);
+    return {(px.x() - crop[s].x + x0[s]) / width, 1.0 - (px.y() - crop[s].y) / height};
+  };
+  constexpr int kUnused = -2;
+  std::vector<int> primary(mesh.vertices.size(), kUnused);  // source of the vertex's own index
   std::vector<int> index(mesh.vertices.size() * 3, -1);
   mesh::TriMesh& m = out.mesh;
+  m.vertices = mesh.vertices;
+  m.uvs.assign(mesh.vertices.size(), fill_uv);
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     const int s = out.source[t];
     std::array<int, 3> tri{};
     for (int k = 0; k < 3; ++k) {
       const int v = mesh.triangles[t][k];
+      if (primary[v] == kUnused) {
+        primary[v] = s;
+        m.uvs[v] = uv_of(v, s);
+      }
       int& id = index[3 * v + s + 1];
       if (id < 0) {
-        id = int(m.vertices.size());
-        m.vertices.push_back(mesh.vertices[v]);
-        if (s < 0) {
-          m.uvs.push_back(fill_uv);
+        if (primary[v] == s) {
+          id = v;
         } else {
-          const Eigen::Vector2d px = capture::project(*p.cams[s], mesh.vertices[v]);
-          m.uvs.emplace_back((px.x() - crop[s].x + x0[s]) / width,
-                             1.0 - (px.y() - crop[s].y) / height);
+          id = int(m.vertices.size());
+          m.vertices.push_back(mesh.vertices[v]);
+          m.uvs.push_back(uv_of(v, s));
         }
       }
       tri[k] = id;

@@ -1,6 +1,7 @@
 // `orthoface reconstruct` and `orthoface eval`, run as separate processes like scripts do.
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "mesh/mesh_io.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
@@ -70,6 +72,21 @@ TEST_F(Reconstruct, WithRigWritesFolderAndEvalMeasuresIt) {
   EXPECT_LT(ev["landmark_mean_mm"].get<double>(), 10.0);
   EXPECT_TRUE(fs::exists(*work_ / "rec" / "error.ply"));
   EXPECT_FALSE(cv::imread((*work_ / "rec" / "error.png").string()).empty());
+  // One textured model: the folder's head.obj is what `render --export` writes (it was the mesh
+  // textured from the front photo alone).
+  const Result x = run("render rec --export exported.obj", *work_);
+  ASSERT_EQ(x.code, 0) << x.err;
+  const mesh::TriMesh head = mesh::read_mesh((*work_ / "rec" / "head.obj").string());
+  const mesh::TriMesh exported = mesh::read_mesh((*work_ / "exported.obj").string());
+  ASSERT_EQ(head.vertices.size(), exported.vertices.size());
+  EXPECT_EQ(head.triangles, exported.triangles);
+  double uv_gap = 0;
+  for (size_t i = 0; i < head.uvs.size(); ++i)
+    uv_gap = std::max(uv_gap, (head.uvs[i] - exported.uvs[i]).norm());
+  EXPECT_LT(uv_gap, 1e-6);
+  ASSERT_EQ(head.texture.size(), exported.texture.size());
+  EXPECT_EQ(cv::norm(head.texture, exported.texture, cv::NORM_INF), 0);
+  EXPECT_NE(report["mesh"]["texture"].get<std::string>().find("both photos"), std::string::npos);
 }
 
 TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
