@@ -22,6 +22,7 @@
 #include "analysis/geodesics.h"
 #include "analysis/mpeg4_features.h"
 #include "mesh/mesh_io.h"
+#include "render/shapes.h"
 #include "sim/head.h"
 #include "sim/scan.h"
 
@@ -118,32 +119,7 @@ Accuracy compare(const std::vector<double>& d, const std::vector<double>& ref) {
 }
 
 nlohmann::json sphere_accuracy(int levels) {
-  // Icosphere by subdivision (as tests/analysis/analysis_test_meshes.h), radius 100.
-  mesh::TriMesh m;
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      auto key = std::minmax(a, b);
-      if (mid.count(key)) return mid[key];
-      m.vertices.push_back(0.5 * (m.vertices[a] + m.vertices[b]));
-      return mid[key] = int(m.vertices.size()) - 1;
-    };
-    std::vector<std::array<int, 3>> next;
-    for (const auto& f : m.triangles) {
-      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      next.push_back({f[0], a, c}), next.push_back({f[1], b, a});
-      next.push_back({f[2], c, b}), next.push_back({a, b, c});
-    }
-    m.triangles = next;
-  }
-  for (auto& v : m.vertices) v = v.normalized() * 100.0;
+  const mesh::TriMesh m = render::icosphere(levels, 100.0);
   auto t0 = Clock::now();
   const auto d = analysis::geodesic_distances(m, {0});
   const double fmm_ms = ms_since(t0);

@@ -15,4 +15,10 @@ namespace orthoface::render {
 mesh::TriMesh uv_ellipsoid(const Eigen::Vector3d& centre, const Eigen::Vector3d& radii, int rings,
                            int segments, int texture_px = 0);
 
+// Icosphere of `radius` centred at the origin: the icosahedron with `levels` midpoint
+// subdivisions (12, 42, 162, 642, 2562, 10242 ... vertices), vertices pushed onto the sphere,
+// counter-clockwise from outside; no uvs. Known geodesics and curvature for the analysis tests
+// and benchmarks. Throws std::invalid_argument for levels outside 0..8 or radius <= 0.
+mesh::TriMesh icosphere(int levels, double radius);
+
 }  // namespace orthoface::render

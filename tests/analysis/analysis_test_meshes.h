@@ -6,41 +6,13 @@
 #include <utility>
 
 #include "mesh/tri_mesh.h"
+#include "render/shapes.h"
 
 namespace orthoface::testing {
 
-// Icosphere of `radius` centred at the origin, `levels` subdivisions (12, 42, 162, 642, 2562,
-// 10242 ... vertices), outward (counter-clockwise) triangles.
+// Icosphere of `radius` centred at the origin, `levels` subdivisions (render/shapes.h).
 inline mesh::TriMesh icosphere(int levels, double radius) {
-  const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  mesh::TriMesh m;
-  m.vertices = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
-                {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  m.triangles = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                 {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                 {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                 {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int l = 0; l < levels; ++l) {
-    std::map<std::pair<int, int>, int> mid;
-    auto midpoint = [&](int a, int b) {
-      auto key = std::minmax(a, b);
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      m.vertices.push_back(0.5 * (m.vertices[a] + m.vertices[b]));
-      return mid[key] = static_cast<int>(m.vertices.size()) - 1;
-    };
-    std::vector<std::array<int, 3>> next;
-    for (const auto& f : m.triangles) {
-      const int a = midpoint(f[0], f[1]), b = midpoint(f[1], f[2]), c = midpoint(f[2], f[0]);
-      next.push_back({f[0], a, c});
-      next.push_back({f[1], b, a});
-      next.push_back({f[2], c, b});
-      next.push_back({a, b, c});
-    }
-    m.triangles = std::move(next);
-  }
-  for (auto& v : m.vertices) v = v.normalized() * radius;
-  return m;
+  return render::icosphere(levels, radius);
 }
 
 // Open cylinder of `radius` around +y, `height` tall, n_around x n_up quads split in two.

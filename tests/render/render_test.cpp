@@ -230,6 +230,25 @@ TEST(Renderer, BadInputsThrow) {
   EXPECT_NO_THROW(r.render(ok, cam));  // still usable after the errors
 }
 
+TEST(Shapes, IcosphereCountsAndRadiusAndBadInput) {
+  for (int levels : {0, 2, 4}) {
+    const TriMesh m = icosphere(levels, 50.0);
+    const size_t faces = 20 * (size_t(1) << (2 * levels));
+    EXPECT_EQ(m.triangles.size(), faces);
+    EXPECT_EQ(m.vertices.size(), faces / 2 + 2);  // a closed genus-0 triangle mesh
+    for (const auto& v : m.vertices) EXPECT_NEAR(v.norm(), 50.0, 1e-9);
+    for (const auto& t : m.triangles) {  // counter-clockwise from outside
+      const Eigen::Vector3d n =
+          (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+      EXPECT_GT(n.dot(m.vertices[t[0]]), 0);
+    }
+  }
+  EXPECT_THROW(icosphere(-1, 1.0), std::invalid_argument);
+  EXPECT_THROW(icosphere(9, 1.0), std::invalid_argument);
+  EXPECT_THROW(icosphere(1, 0.0), std::invalid_argument);
+  EXPECT_THROW(icosphere(1, std::nan("")), std::invalid_argument);
+}
+
 TEST(Renderer, MeshBehindThePerspectiveCameraGivesAnEmptyImage) {
   CameraModel cam = perspective_camera(0, 500);
   const TriMesh s = uv_ellipsoid({0, 0, 900}, {30, 30, 30}, 8, 16);  // behind the camera
