@@ -17,7 +17,6 @@
 #include "capture/camera_model.h"
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
-#include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
@@ -206,7 +205,7 @@ int run_render(int argc, char** argv) {
   if (!view_wanted) return 0;
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   const auto synth = reconstruct::view_synthesizer(f);
-  if (o.unseen != render::UnseenSide::Front && !model::mid_sagittal_plane(f.landmarks)) {
+  if (o.unseen != render::UnseenSide::Front && !synth->mirror_plane()) {
     if (a.has("unseen"))
       throw std::invalid_argument("--unseen " + a.get("unseen") + ": " + a.positional[0] +
                                   " has no landmarks.json with left / right feature pairs");

@@ -93,22 +93,19 @@ Eigen::Vector3d turned(const Eigen::Vector3d& p, const HeadTurn& turn) {
 StereoData facing_front(const StereoData& data, const HeadTurn& turn) {
   const double c = std::cos(turn.yaw_rad), s = std::sin(turn.yaw_rad);
   const auto generic = generic_landmarks();
-  auto unturned = [&](const Eigen::Vector3d& p) {  // the inverse of turned()
-    const Eigen::Vector3d r = p - turn.axis;
-    return Eigen::Vector3d(turn.axis.x() + r.x() * c - r.z() * s, p.y(),
-                           turn.axis.z() + r.x() * s + r.z() * c);
-  };
+  HeadTurn back = turn;  // R_y(-t) about the same axis undoes turned()
+  back.yaw_rad = -turn.yaw_rad;
   StereoData out = data;
   for (auto& [name, p] : out.features) {
     if (p.has_depth) {
-      p.head_mm = unturned(p.head_mm);
+      p.head_mm = turned(p.head_mm, back);
       continue;
     }
     const auto g = generic.find(name);  // depth unknown: the generic head's, turned
     if (g == generic.end()) continue;
     Eigen::Vector3d q = p.head_mm;
     q.z() = turn.axis.z() + turn.scale * (-g->second.x() * s + g->second.z() * c);
-    p.head_mm.x() = unturned(q).x();
+    p.head_mm.x() = turned(q, back).x();
   }
   out.centre_point.x() = turn.axis.x();
   for (Eigen::Vector2d& p : out.silhouette) p.x() = turn.axis.x() + (p.x() - turn.axis.x()) / c;

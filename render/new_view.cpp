@@ -431,6 +431,10 @@ void ViewSynthesizer::set_mirror_plane(const std::optional<Eigen::Vector4d>& pla
   impl_->mirror_plane = plane;
 }
 
+const std::optional<Eigen::Vector4d>& ViewSynthesizer::mirror_plane() const {
+  return impl_->mirror_plane;
+}
+
 void ViewSynthesizer::update_colour_match() {
   impl_->context.make_current();
   impl_->match_colours();

@@ -126,6 +126,7 @@ class ViewSynthesizer {
   // that side to the front photo alone. Throws std::invalid_argument on a non-unit or
   // non-finite plane.
   void set_mirror_plane(const std::optional<Eigen::Vector4d>& plane);
+  const std::optional<Eigen::Vector4d>& mirror_plane() const;
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).

@@ -25,7 +25,8 @@ struct InheritedMesh {
 // The mesh with the texture it inherits from the two photos (seed 004 §6, per triangle): each
 // triangle takes the photo that sees all its vertices (depth-map test) and that it faces more;
 // a triangle no photo sees maps to a patch of the fill colour. The atlas holds the used regions
-// of both photos side by side; vertices are duplicated where triangles of both photos meet.
+// of both photos side by side; where triangles of both photos meet, a vertex keeps its index
+// for the first and copies are appended for the other (welding them gives the input back).
 // Throws std::invalid_argument on a bad mesh, rig or photo (as ViewSynthesizer).
 InheritedMesh inherit_texture(const mesh::TriMesh& mesh, const capture::RigCalibration& rig,
                               const cv::Mat& front, const cv::Mat& side,

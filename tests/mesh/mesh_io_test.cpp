@@ -33,6 +33,12 @@ void write_text(const fs::path& p, const std::string& s) {
   std::ofstream(p, std::ios::binary) << s;
 }
 
+// One triangle's float32 positions (0,0,0) (1,0,0) (0,1,0): a glTF buffer.
+void write_triangle_bin(const fs::path& p) {
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  write_text(p, std::string(reinterpret_cast<const char*>(pos), sizeof(pos)));
+}
+
 std::string error_of(const std::string& path, const MeshReadOptions& o = {}) {
   try {
     read_mesh(path, o);
@@ -221,10 +227,7 @@ TEST(MeshIo, GlbWithEveryIndexWidthAndEmbeddedImage) {
 // reads a device. One triangle's positions in tri.bin; the JSON around it varies.
 TEST(MeshIo, HostileGltfIsRefused) {
   const auto dir = testing::temp_dir("mesh_io_gltf_hostile");
-  std::string bin;
-  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  bin.append(reinterpret_cast<const char*>(pos), sizeof(pos));
-  write_text(dir / "tri.bin", bin);
+  write_triangle_bin(dir / "tri.bin");
   auto gltf = [&](const std::string& nodes, const std::string& accessor,
                   const std::string& view = R"({"buffer":0,"byteLength":36})",
                   const std::string& uri = "tri.bin") {
@@ -274,10 +277,7 @@ TEST(MeshIo, HostileGltfIsRefused) {
 
 TEST(MeshIo, GltfWithExternalBinFile) {
   const auto dir = testing::temp_dir("mesh_io_gltf");
-  std::string bin;
-  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
-  bin.append(reinterpret_cast<const char*>(pos), sizeof(pos));
-  write_text(dir / "tri.bin", bin);
+  write_triangle_bin(dir / "tri.bin");
   write_text(
       dir / "tri.gltf",
       R"({"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],)"
