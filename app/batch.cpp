@@ -29,8 +29,10 @@ namespace {
 constexpr int kTagDone = 1, kTagErrors = 2;
 
 const char* kUsage =
-    "usage: orthoface-batch pairs DIR -o OUT        (DIR/<name>/front.* + side.* [+ rig.yaml];\n"
-    "                                                 PNG, JPEG, BMP, TIFF, WebP, PPM/PGM)\n"
+    "usage: orthoface-batch pairs DIR -o OUT [--force]  (DIR/<name>/front.* + side.*\n"
+    "                                                 [+ rig.yaml]; PNG, JPEG, BMP, TIFF, WebP,\n"
+    "                                                 PPM/PGM; a pair the input check refuses is\n"
+    "                                                 a failed item, with --force modelled)\n"
     "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
     "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n"
     "       Every item is tried; OUT/batch_report.json gives each one's result and, for a failed\n"
@@ -130,7 +132,16 @@ void gather_status(std::vector<double>& status, std::vector<double>& ms) {
   status.swap(s2), ms.swap(m2);
 }
 
-int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
+// The input check a refused pair failed ("input check NAME: ..."), or "".
+std::string refused_by(const std::string& error) {
+  const std::string prefix = "input check ";
+  if (error.rfind(prefix, 0) != 0) return {};
+  const size_t colon = error.find(':', prefix.size());
+  return colon == std::string::npos ? std::string()
+                                    : error.substr(prefix.size(), colon - prefix.size());
+}
+
+int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, int size) {
   std::vector<fs::path> items;  // every sub-folder: one without its photos is a failed item
   for (const auto& e : fs::directory_iterator(dir))
     if (e.is_directory() && !(fs::exists(out) && fs::equivalent(e.path(), out)))
@@ -145,6 +156,7 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       reconstruct::ReconstructOptions o;
+      o.force = force;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
       cv::Mat photos[2];
@@ -171,15 +183,24 @@ int run_pairs(const fs::path& dir, const fs::path& out, int rank, int size) {
   while (progress.done < n) progress.poll();
   nlohmann::json j{{"ranks", size}, {"pairs", n}};
   int ok = 0;
+  nlohmann::json refused = nlohmann::json::object();  // input check -> pairs it refused
   for (int i = 0; i < n; ++i) {
     ok += status[i] > 0.5;
     nlohmann::json item{
         {"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}};
-    if (status[i] <= 0.5) item["error"] = errors[i];
+    if (status[i] <= 0.5) {
+      item["error"] = errors[i];
+      const std::string check = refused_by(errors[i]);
+      if (!check.empty()) {
+        item["refused_by"] = check;
+        refused[check] = refused.value(check, 0) + 1;
+      }
+    }
     j["items"].push_back(item);
   }
   j["ok"] = ok;
   j["failed"] = n - ok;
+  j["refused_by_input_check"] = refused;
   io::write_text_atomically((out / "batch_report.json").string(), j.dump(2) + "\n");
   std::printf("batch: %d / %d pairs reconstructed on %d rank(s) -> %s\n", ok, n, size, out.c_str());
   return ok == n ? 0 : 1;
@@ -261,15 +282,17 @@ int main(int argc, char** argv) {
   try {
     if (argc == 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) {
       if (rank == 0) std::printf("%s", kUsage);
-    } else if (argc != 5 || std::strcmp(argv[3], "-o") != 0 ||
-               (std::strcmp(argv[1], "pairs") && std::strcmp(argv[1], "similarity"))) {
+    } else if ((argc != 5 && argc != 6) || std::strcmp(argv[3], "-o") != 0 ||
+               (std::strcmp(argv[1], "pairs") && std::strcmp(argv[1], "similarity")) ||
+               (argc == 6 && (std::strcmp(argv[1], "pairs") || std::strcmp(argv[5], "--force")))) {
       throw std::invalid_argument(std::string("bad arguments\n") + kUsage);
     } else {
+      const bool force = argc == 6;
       const fs::path dir = argv[2], out = argv[4];
       if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": not a folder");
       if (rank == 0) fs::create_directories(out);
       MPI_Barrier(MPI_COMM_WORLD);
-      rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, rank, size)
+      rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, force, rank, size)
                                           : run_similarity_matrix(dir, out, rank, size);
     }
   } catch (const std::invalid_argument& e) {

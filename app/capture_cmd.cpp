@@ -27,7 +27,8 @@ Command capture_command() {
            {"fps", true, "N  frame rate (default 30)"},
            {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
            {"timeout", true, "S  how long to wait for a pair (default 5)"},
-           {"no-reconstruct", false, "only save the pair"}},
+           {"no-reconstruct", false, "only save the pair"},
+           {"force", false, "model the pair even when the input check fails (exit 3 without)"}},
           0};
 }
 
@@ -69,11 +70,15 @@ int run_capture(int argc, char** argv) {
   std::printf("pair saved: %s (skew %.1f ms)\n", pair_dir.c_str(), pair->skew_s * 1e3);
   if (a.has("no-reconstruct")) return 0;
   reconstruct::ReconstructOptions ro;
+  ro.force = a.has("force");
   ro.rig = station_rig(a.get("rig"), a.get("front"), a.get("side"), o.width, o.height);
   try {
     const reconstruct::Reconstruction r =
         reconstruct::from_photos(pair->front.image, pair->side.image, ro);
     reconstruct::write_reconstruction(r, out + "/model");
+  } catch (const reconstruct::InputRefused& e) {
+    throw reconstruct::InputRefused(e.check(),
+                                    e.problem() + "; the captured pair is kept in " + pair_dir);
   } catch (const std::exception& e) {
     throw std::runtime_error(std::string(e.what()) + " (the captured pair is kept in " + pair_dir +
                              ")");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "reconstruct/reconstruction.h"
 
 namespace {
 
@@ -62,6 +63,9 @@ int main(int argc, char** argv) {
     if (std::strcmp(argv[1], e.name) != 0) continue;
     try {
       return e.run(argc, argv);
+    } catch (const orthoface::reconstruct::InputRefused& ex) {  // a wrong pair: exit 3 (README)
+      std::cerr << "error: " << ex.what() << "\n";
+      return orthoface::reconstruct::kExitInputRefused;
     } catch (const std::exception& ex) {
       std::cerr << "error: " << ex.what() << "\n";
       return 1;

@@ -31,7 +31,10 @@ Command reconstruct_command() {
             "(MIT weights, vision/models), or both (default: the filters' points "
             "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
-           {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"}},
+           {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"},
+           {"force", false,
+            "model the pair even when the input check fails (the failures go to report.json's "
+            "warnings); without it a failed check exits 3 (docs/input_check.md)"}},
           0};
 }
 
@@ -57,6 +60,7 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
     throw std::invalid_argument("--method: expected nnwa or interpolate, got '" + method + "'");
   o.adapt.method = method == "nnwa" ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;
   if (a.has("k")) o.adapt.k = to_int("k", a.get("k"), 1, 100000);
+  o.force = a.has("force");
   o.check();
   return o;
 }

@@ -50,6 +50,17 @@ nlohmann::json landmarks_json(const Reconstruction& r) {
           {"landmarks", l}};
 }
 
+// Each check of the input check: passed, the measure and its limit (null when not measured).
+nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
+  nlohmann::json j = nlohmann::json::object();
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  for (const auto& c : checks)
+    j[c.name] = {{"passed", c.passed}, {"value", num(c.value)}, {"limit", num(c.limit)}};
+  return j;
+}
+
 nlohmann::json report_json(const Reconstruction& r) {
   const ReconstructionReport& rep = r.report;
   nlohmann::json stages = nlohmann::json::object();
@@ -69,6 +80,7 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},
+          {"input_check", input_check_json(rep.input_checks)},
           {"confidences", rep.confidences},
           {"features_found", rep.features_found},
           {"landmarks_used", rep.landmarks_used},

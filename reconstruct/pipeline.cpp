@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <stdexcept>
 #include <tuple>
 
@@ -16,6 +17,7 @@
 #include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
 #include "model/head_turn.h"
+#include "vision/face_detect.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
@@ -144,7 +146,14 @@ void ReconstructOptions::check() const {
     throw std::invalid_argument("ReconstructOptions: rig has a camera without an image size");
   if (!std::isfinite(min_head_turn_deg))
     throw std::invalid_argument("ReconstructOptions: min_head_turn_deg is not finite");
+  input_limits.check();
 }
+
+InputRefused::InputRefused(const std::string& check, const std::string& problem)
+    : std::invalid_argument("input check " + check + ": " + problem +
+                            " (--force models the pair anyway)"),
+      check_(check),
+      problem_(problem) {}
 
 Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
                            const ReconstructOptions& options) {
@@ -153,10 +162,31 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
   if (side.empty()) throw std::invalid_argument("side photo is empty");
   if (options.rig) check_rig_fits(*options.rig, front, side);
   const auto t0 = Clock::now();
+  std::future<void> detector;  // ready by the time the input check needs it
+  if (options.check_input) detector = std::async(std::launch::async, vision::prepare_face_detector);
   const vision::FaceObservation obs = vision::observe(front, side, options.observe);
   const double observe_ms = ms_since(t0);
+  if (detector.valid()) detector.get();
+  std::vector<vision::InputCheck> checks;
+  std::vector<std::string> failures;
+  const auto t1 = Clock::now();
+  if (options.check_input) {
+    const vision::PairCheck c =
+        vision::check_pair(vision::measure_pair(front, side, obs), options.input_limits);
+    for (const auto& x : c.checks) {
+      if (x.passed) continue;
+      if (!options.force) throw InputRefused(x.name, x.problem);
+      failures.push_back("input check " + x.name + " failed (--force): " + x.problem);
+    }
+    checks = c.checks;
+  }
+  const double check_ms = ms_since(t1);
   Reconstruction r = from_observation(obs, front, side, options);
   r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});
+  if (options.check_input)
+    r.report.stage_ms.insert(r.report.stage_ms.begin() + 1, {"input_check", check_ms});
+  r.report.input_checks = checks;
+  r.report.warnings.insert(r.report.warnings.begin(), failures.begin(), failures.end());
   r.report.front_landmarker = vision::front_landmarker_name(options.observe.landmarker);
   for (const std::string& w : obs.warnings)
     if (w.rfind("front landmarks:", 0) == 0) r.report.front_landmarker = "filters (" + w + ")";

@@ -18,6 +18,7 @@
 #include "model/stereo.h"
 #include "vision/observation.h"
 #include "vision/observe.h"
+#include "vision/pair_check.h"
 
 namespace orthoface::render {
 class ViewSynthesizer;
@@ -37,8 +38,26 @@ struct ReconstructOptions {
   // is modelled facing front and turned back; smaller turns are taken as frontal. Negative:
   // never (seed 004's frontal front photo).
   double min_head_turn_deg = -1;
+  // The input check (vision/pair_check.h) before modelling: a failed check refuses the pair
+  // (InputRefused) unless `force`, which models it with the failures in the report's warnings.
+  bool check_input = true;
+  bool force = false;
+  vision::PairCheckLimits input_limits;
   void check() const;  // throws std::invalid_argument
 };
+
+// A pair the input check refused: what() is "input check NAME: problem"; check names the check
+// (docs/input_check.md). The command line exits with kExitInputRefused.
+class InputRefused : public std::invalid_argument {
+ public:
+  InputRefused(const std::string& check, const std::string& problem);
+  const std::string& check() const { return check_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string check_, problem_;
+};
+inline constexpr int kExitInputRefused = 3;
 
 struct ReconstructionReport {
   std::vector<std::pair<std::string, double>> stage_ms;  // in pipeline order
@@ -53,6 +72,7 @@ struct ReconstructionReport {
   double head_yaw_deg = std::numeric_limits<double>::quiet_NaN();
   bool head_turn_corrected = false;
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
+  std::vector<vision::InputCheck> input_checks;  // empty when the check did not run
 };
 
 struct Reconstruction {
@@ -69,9 +89,10 @@ struct Reconstruction {
   ReconstructionReport report;
 };
 
-// Front + side photos -> observation (vision) -> stereo -> adapted mesh with the front photo as
-// texture. Throws std::invalid_argument naming the input when the photos are unusable or the
-// observation cannot be reconstructed (no silhouette / profile, inconsistent heights).
+// Front + side photos -> observation (vision) -> input check -> stereo -> adapted mesh with the
+// front photo as texture. Throws InputRefused when the input check fails (without `force`),
+// std::invalid_argument naming the input when the photos are unusable or the observation
+// cannot be reconstructed (no silhouette / profile, inconsistent heights).
 Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
                            const ReconstructOptions& options = {});
 

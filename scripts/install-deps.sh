@@ -11,7 +11,8 @@ packages=(
   libopenmpi-dev openmpi-bin
   assimp-utils
   libcgal-dev  # bench/analysis_bench only: exact geodesics as the accuracy reference
-  libdlib-dev libdlib-data  # judge/ only (benchmarks, tests): the real-photo judge
+  libdlib-dev  # vision: the face detector of the input check; judge/: the real-photo judge
+  libdlib-data  # judge/ only (benchmarks, tests): the judge's 68-point predictor
   clang-format  # scripts/run.sh test: every source as .clang-format says
 )
 

@@ -268,6 +268,17 @@ std::array<cv::Point2d, 68> FaceLandmarker68::in_crop(const cv::Mat& bgr,
   return points;
 }
 
+const FaceLandmarker68* shared_landmarker() {
+  static const std::optional<FaceLandmarker68> net = []() -> std::optional<FaceLandmarker68> {
+    try {
+      return FaceLandmarker68(default_model_dir());
+    } catch (const std::runtime_error&) {
+      return std::nullopt;
+    }
+  }();
+  return net ? &*net : nullptr;
+}
+
 cv::Rect2d crop_from_points(const std::array<cv::Point2d, 68>& p) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const cv::Point2d& q : p)

@@ -52,6 +52,11 @@ class FaceLandmarker68 {
   std::unique_ptr<Net> net_;
 };
 
+// One landmarker for the whole process, loaded from default_model_dir() on first use (its
+// methods are const and safe to call from several threads); nullptr when the weights cannot be
+// read.
+const FaceLandmarker68* shared_landmarker();
+
 // The square crop the network expects around a face whose 68 points are `p` (the face
 // detector's box the network was trained on: brows to chin, jaw to jaw, centred).
 cv::Rect2d crop_from_points(const std::array<cv::Point2d, 68>& p);

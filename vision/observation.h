@@ -43,6 +43,12 @@ struct FaceObservation {
   // the subject's left, head +x, as in DESIGN.md); false when it was mirrored (camera on the
   // right).
   bool side_faces_left = true;
+  // How the side photo's profile looks by itself (vision::profile_faces_left, confidence 0..1),
+  // and whether --side-camera decided side_faces_left instead; for the input check, not written
+  // to observation.json.
+  bool side_seen_faces_left = true;
+  double side_seen_confidence = 0.0;
+  bool side_camera_given = false;
   // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
   // before the consensus replaced any by the filters'; empty when it did not run. The midline
   // features above sit on the centre line; these do not, so the head's turn shows in them.

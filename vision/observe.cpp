@@ -59,6 +59,8 @@ struct SideResult {
   SideProfile profile;  // in the image as given (un-mirrored), index coordinates
   bool faces_left = true;
   double facing_confidence = 0;
+  bool seen_faces_left = true;  // as the image shows it, whatever --side-camera said
+  double seen_confidence = 0;
 };
 
 // The side photo's foreground probability and head blob: they need nothing from the front view,
@@ -86,6 +88,7 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
   if (blobs > 1)
     warn.push_back("side view: " + std::to_string(blobs) + " heads; using the central one");
   r.faces_left = profile_faces_left(mask, side, &r.facing_confidence, min_head_height_px);
+  r.seen_faces_left = r.faces_left, r.seen_confidence = r.facing_confidence;
   if (cam != SideCamera::Auto)
     r.faces_left = cam == SideCamera::Left, r.facing_confidence = 1;
   else if (r.facing_confidence < 0.3)
@@ -235,6 +238,9 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
                            : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
   const SideResult s = observe_side(side, side_seg.get(), o.side_camera, min_h, obs.warnings);
   obs.side_faces_left = s.faces_left;
+  obs.side_seen_faces_left = s.seen_faces_left;
+  obs.side_seen_confidence = s.seen_confidence;
+  obs.side_camera_given = o.side_camera != SideCamera::Auto;
   observe_front(front, bgf, head, s.profile, row_scale, o, obs);
   for (const auto& p : s.profile.curve) obs.side.boundary.push_back(out_px(p));
   obs.side.boundary_confidence = s.profile.confidence;

@@ -119,13 +119,7 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
                        FrontFeatures& ff, std::map<std::string, Feature2d>& trained,
                        std::vector<std::string>& warn) {
-  static const std::optional<FaceLandmarker68> net = []() -> std::optional<FaceLandmarker68> {
-    try {
-      return FaceLandmarker68(default_model_dir());
-    } catch (const std::runtime_error&) {
-      return std::nullopt;
-    }
-  }();
+  const FaceLandmarker68* net = shared_landmarker();
   if (!net) {
     warn.push_back("front landmarks: the network's weights are missing (" + default_model_dir() +
                    "); the filters' features are used");

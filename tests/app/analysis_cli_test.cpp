@@ -193,6 +193,33 @@ TEST(AnalysisCli, BatchPairsTakesJpegAndRecordsEachFailure) {
         << launcher;
   }
   EXPECT_EQ(run("'" + batch.string() + "'", "pairs", w).code, 2);
+  EXPECT_EQ(run("'" + batch.string() + "'", "pairs pairs -o x --fast", w).code, 2);
+}
+
+// A pair the input check refuses (photos swapped) is a failed item naming the check; with
+// --force it is modelled.
+TEST(AnalysisCli, BatchPairsRecordsTheInputCheckThatRefusedAPair) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch_refused");
+  ASSERT_EQ(orthoface("simulate --subject 3 --out sim", w).code, 0);
+  for (const char* d : {"pairs/right", "pairs/swapped"}) fs::create_directories(w / d);
+  fs::copy_file(w / "sim/front.png", w / "pairs/right/front.png");
+  fs::copy_file(w / "sim/side.png", w / "pairs/right/side.png");
+  fs::copy_file(w / "sim/side.png", w / "pairs/swapped/front.png");
+  fs::copy_file(w / "sim/front.png", w / "pairs/swapped/side.png");
+  const Result r = run("'" + batch.string() + "'", "pairs pairs -o out", w);
+  EXPECT_EQ(r.code, 1) << r.err;
+  const auto j = nlohmann::json::parse(slurp(w / "out" / "batch_report.json"));
+  EXPECT_EQ(j["ok"], 1);
+  EXPECT_EQ(j["refused_by_input_check"]["swapped"], 1);
+  for (const auto& it : j["items"])
+    if (it["name"] == "swapped") {
+      EXPECT_EQ(it["refused_by"], "swapped");
+    }
+  const Result f = run("'" + batch.string() + "'", "pairs pairs -o forced --force", w);
+  EXPECT_EQ(f.code, 0) << f.err;
+  EXPECT_TRUE(fs::exists(w / "forced" / "swapped" / "head.obj"));
 }
 
 }  // namespace

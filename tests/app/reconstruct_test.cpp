@@ -128,6 +128,30 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   expect_clean_error("reconstruct --front blank.png --side blank.png --out bad_out", "");
 }
 
+// A wrong pair (the photos swapped) is refused by the input check with exit 3 and one line
+// naming the check; --force models it and report.json records the failed check.
+TEST_F(Reconstruct, TheInputCheckRefusesSwappedPhotosUnlessForced) {
+  const std::string swapped = "reconstruct --front sim/side.png --side sim/front.png --out bad_out";
+  expect_clean_error(swapped, "error: input check swapped: ");
+  EXPECT_EQ(run(swapped, *work_).code, 3);
+  const Result forced =
+      run("reconstruct --front sim/side.png --side sim/front.png --out forced --force", *work_);
+  ASSERT_EQ(forced.code, 0) << forced.err;
+  const auto report = nlohmann::json::parse(slurp(*work_ / "forced" / "report.json"));
+  EXPECT_FALSE(report["input_check"]["swapped"]["passed"].get<bool>());
+  EXPECT_EQ(report["warnings"][0].get<std::string>().rfind("input check swapped failed", 0), 0u)
+      << report["warnings"];
+  // A right pair: every check passed and is in the report.
+  const Result right =
+      run("reconstruct --front sim/front.png --side sim/side.png --out right", *work_);
+  ASSERT_EQ(right.code, 0) << right.err;
+  const auto ok = nlohmann::json::parse(slurp(*work_ / "right" / "report.json"));
+  ASSERT_EQ(ok["input_check"].size(), 11u);
+  for (const auto& [name, c] : ok["input_check"].items())
+    EXPECT_TRUE(c["passed"].get<bool>()) << name;
+  EXPECT_TRUE(ok["stage_ms"].contains("input_check"));
+}
+
 TEST_F(Reconstruct, EvalBadInputs) {
   expect_clean_error("eval sim --truth sim", "head.obj");  // not a reconstruction
   expect_clean_error("eval missing_dir --truth sim", "missing_dir");

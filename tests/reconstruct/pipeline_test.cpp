@@ -45,5 +45,37 @@ TEST(Pipeline, FrontRowsCopiedFromTheProfileCannotRegister) {
   EXPECT_NE(r.report.scale_note.find("came from the side photo"), std::string::npos);
 }
 
+// The input check runs before modelling: a swapped pair throws InputRefused naming the check;
+// `force` models it with the failure first among the warnings; check_input = false skips it.
+TEST(Pipeline, TheInputCheckRefusesOrRecordsAWrongPair) {
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(4), sim::RigOptions{});
+  try {
+    from_photos(cap.side, cap.front);
+    ADD_FAILURE() << "a swapped pair was modelled";
+  } catch (const InputRefused& e) {
+    EXPECT_EQ(e.check(), "swapped");
+    EXPECT_EQ(std::string(e.what()).rfind("input check swapped: ", 0), 0u) << e.what();
+  }
+  ReconstructOptions o;
+  o.force = true;
+  const Reconstruction forced = from_photos(cap.side, cap.front, o);
+  ASSERT_FALSE(forced.report.warnings.empty());
+  EXPECT_EQ(forced.report.warnings[0].rfind("input check swapped failed", 0), 0u);
+  EXPECT_EQ(forced.report.input_checks.size(), 11u);
+  o.force = false;
+  o.check_input = false;
+  EXPECT_TRUE(from_photos(cap.side, cap.front, o).report.input_checks.empty());
+  const Reconstruction right = from_photos(cap.front, cap.side);
+  ASSERT_EQ(right.report.input_checks.size(), 11u);
+  for (const auto& c : right.report.input_checks)
+    EXPECT_TRUE(c.passed) << c.name << ": " << c.problem;
+}
+
+TEST(Pipeline, BadInputLimitsAreRefused) {
+  ReconstructOptions o;
+  o.input_limits.max_front_turn = -1;
+  EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace orthoface::reconstruct

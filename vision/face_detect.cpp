@@ -1,0 +1,57 @@
+#include "vision/face_detect.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <dlib/image_processing/frontal_face_detector.h>
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::vision {
+
+constexpr double kMinFaceFraction = 7;  // smallest face found: 1/7 of the shorter side
+
+namespace {
+
+// Decoding dlib's embedded detector takes about 0.3 s: once per process.
+const dlib::frontal_face_detector& decoded_detector() {
+  static const dlib::frontal_face_detector decoded = dlib::get_frontal_face_detector();
+  return decoded;
+}
+
+}  // namespace
+
+void prepare_face_detector() { decoded_detector(); }
+
+std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score) {
+  if (image.empty()) throw std::invalid_argument("face detector: the image is empty");
+  if (image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 1))
+    throw std::invalid_argument("face detector: the image must be 8-bit BGR or grey");
+  cv::Mat grey;
+  if (image.channels() == 3)
+    cv::cvtColor(image, grey, cv::COLOR_BGR2GRAY);
+  else
+    grey = image;
+  // dlib's window is 80 px: a face 1/7 of the shorter side must be at least that.
+  const double scale = 80.0 * kMinFaceFraction / std::min(grey.rows, grey.cols);
+  cv::Mat scaled;
+  cv::resize(grey, scaled, cv::Size(), scale, scale, scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  dlib::array2d<unsigned char> img(scaled.rows, scaled.cols);
+  for (int r = 0; r < scaled.rows; ++r)
+    std::copy_n(scaled.ptr<unsigned char>(r), scaled.cols, &img[r][0]);
+  // Each caller its own copy (cheap): the detector keeps scratch buffers.
+  dlib::frontal_face_detector detector = decoded_detector();
+  std::vector<dlib::rect_detection> found;
+  detector(img, found, min_score);
+  std::vector<DetectedFace> faces;
+  for (const auto& d : found) {
+    const dlib::rectangle& b = d.rect;
+    faces.push_back(
+        {cv::Rect2d(b.left() / scale, b.top() / scale, (b.width()) / scale, (b.height()) / scale),
+         d.detection_confidence});
+  }
+  std::sort(faces.begin(), faces.end(),
+            [](const DetectedFace& a, const DetectedFace& b) { return a.score > b.score; });
+  return faces;
+}
+
+}  // namespace orthoface::vision

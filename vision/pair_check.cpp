@@ -1,0 +1,398 @@
+#include "vision/pair_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <future>
+#include <map>
+#include <optional>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "vision/face_detect.h"
+#include "vision/face_landmarks68.h"
+#include "vision/foreground.h"
+#include "vision/image_prep.h"
+
+namespace orthoface::vision {
+namespace {
+
+bool known(double v) { return std::isfinite(v); }
+
+// turn_index = kTurnPerTan x tan(turn): the nose tip about 38 mm ahead of the outer eye
+// corners, which are about 90 mm apart.
+constexpr double kTurnPerTan = 0.85;
+
+std::string fmt(const char* format, double a, double b = 0, double c = 0) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, format, a, b, c);
+  return buf;
+}
+
+// The faces at least half as wide as the widest: a person far behind does not count, a second
+// sitter does.
+int comparable_faces(const std::vector<DetectedFace>& faces, const DetectedFace** widest) {
+  *widest = nullptr;
+  for (const auto& f : faces)
+    if (!*widest || f.box.width > (*widest)->box.width) *widest = &f;
+  int n = 0;
+  for (const auto& f : faces) n += f.box.width >= 0.5 * (*widest)->box.width;
+  return n;
+}
+
+// The inner part of a face box (the detector's box reaches the hairline and the jaw's edge),
+// clipped to the image.
+cv::Rect inner_box(const cv::Rect2d& box, const cv::Size& size, double keep) {
+  const cv::Point2d c = (box.tl() + box.br()) * 0.5;
+  const cv::Rect r(cv::Point(int(c.x - keep * box.width / 2), int(c.y - keep * box.height / 2)),
+                   cv::Point(int(c.x + keep * box.width / 2), int(c.y + keep * box.height / 2)));
+  return r & cv::Rect(cv::Point(0, 0), size);
+}
+
+void measure_face_image(const cv::Mat& bgr, const cv::Rect2d& box, PairMeasures& m) {
+  const cv::Rect whole = inner_box(box, bgr.size(), 1.0);
+  if (whole.width < 8 || whole.height < 8) return;
+  cv::Mat grey;
+  cv::cvtColor(bgr(whole), grey, cv::COLOR_BGR2GRAY);
+  // Blur at one scale whatever the photo's resolution: the face 128 px wide.
+  cv::Mat small;
+  cv::resize(grey, small,
+             cv::Size(128, std::max(8, int(std::lround(128.0 * grey.rows / grey.cols)))), 0, 0,
+             grey.cols > 128 ? cv::INTER_AREA : cv::INTER_LINEAR);
+  m.front_blur = blur_index(small);
+  const cv::Rect in = inner_box(box, bgr.size(), 0.6);
+  if (in.width < 4 || in.height < 4) return;
+  cv::Mat luma;
+  cv::cvtColor(bgr(in), luma, cv::COLOR_BGR2GRAY);
+  m.front_luma = cv::mean(luma)[0];
+  m.front_clipped = double(cv::countNonZero(luma >= 250)) / luma.total();
+}
+
+// The trained network's 68 points for the face in `box` of `bgr`; none without the weights.
+std::vector<cv::Point2d> network_points(const cv::Mat& bgr, const cv::Rect2d& box) {
+  const FaceLandmarker68* net = shared_landmarker();
+  if (!net) return {};
+  const double side = 1.2 * std::max(box.width, box.height);
+  const cv::Point2d c = (box.tl() + box.br()) * 0.5;
+  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side});
+  return {f.points.begin(), f.points.end()};
+}
+
+double points_turn(const std::vector<cv::Point2d>& p) {
+  if (p.size() != 68 || cv::norm(p[45] - p[36]) < 1e-6) return PairMeasures::kNaN;
+  return turn_index(p[36], p[45], p[30]);
+}
+
+const Feature2d* find(const std::map<std::string, Feature2d>& m, const char* name) {
+  const auto it = m.find(name);
+  return it == m.end() ? nullptr : &it->second;
+}
+
+// Least squares y = a x + b over `p`; false when the x do not spread.
+bool fit_line(const std::vector<std::pair<double, double>>& p, double& a, double& b) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = double(p.size());
+  for (const auto& [x, y] : p) sx += x, sy += y, sxx += x * x, sxy += x * y;
+  const double den = n * sxx - sx * sx;
+  if (!(std::abs(den) > 1e-9)) return false;
+  a = (n * sxy - sx * sy) / den, b = (sy - a * sx) / n;
+  return true;
+}
+
+// Midline heights: the front's trained points (independent of the side photo: the consensus
+// points take their rows from the profile) against the side profile's, front = a side + b
+// fitted without each point in turn (one may be misplaced); the smallest RMS residual over the
+// front's nose-bridge-to-chin height.
+double height_residual(const FaceObservation& obs) {
+  std::vector<std::pair<double, double>> rows;  // (side row, front row)
+  for (const char* n :
+       {"nose_bridge", "nose_tip", "subnasale", "lip_upper", "lip_lower", "chin", "chin_bottom"}) {
+    const Feature2d* f = find(obs.front_trained, n);
+    const Feature2d* s = find(obs.side.features, n);
+    if (f && s && s->confidence > 0) rows.emplace_back(s->px.y, f->px.y);
+  }
+  const Feature2d* top = find(obs.front_trained, "nose_bridge");
+  const Feature2d* bottom = find(obs.front_trained, "chin_bottom");
+  if (rows.size() < 5 || !top || !bottom || bottom->px.y <= top->px.y) return PairMeasures::kNaN;
+  double best = PairMeasures::kNaN;
+  for (size_t drop = 0; drop < rows.size(); ++drop) {
+    std::vector<std::pair<double, double>> kept = rows;
+    kept.erase(kept.begin() + long(drop));
+    double a, b;
+    if (!fit_line(kept, a, b)) continue;
+    double ss = 0;
+    for (const auto& [x, y] : kept) ss += (a * x + b - y) * (a * x + b - y);
+    const double rms = std::sqrt(ss / kept.size());
+    if (!(rms >= best)) best = rms;
+  }
+  return best / (bottom->px.y - top->px.y);
+}
+
+// Median CIE L*a*b* colour of a square patch (centre, half size) of `bgr`; none when the patch
+// leaves the image.
+std::optional<cv::Vec3d> patch_lab(const cv::Mat& bgr, cv::Point2d centre, double half) {
+  const cv::Rect r(cv::Point(int(centre.x - half), int(centre.y - half)),
+                   cv::Point(int(centre.x + half) + 1, int(centre.y + half) + 1));
+  if (half < 1 || (r & cv::Rect(cv::Point(0, 0), bgr.size())) != r) return std::nullopt;
+  cv::Mat lab;
+  cv::Mat f;
+  bgr(r).convertTo(f, CV_32F, 1.0 / 255);
+  cv::cvtColor(f, lab, cv::COLOR_BGR2Lab);
+  cv::Vec3d out;
+  std::vector<float> v(lab.total());
+  for (int c = 0; c < 3; ++c) {
+    for (size_t i = 0; i < v.size(); ++i)
+      v[i] = lab.at<cv::Vec3f>(int(i / lab.cols), int(i % lab.cols))[c];
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    out[c] = v[v.size() / 2];
+  }
+  return out;
+}
+
+// Cheek skin: in the front photo below each eye, halfway to the nose tip's row; in the side
+// photo under the eye, behind the nose tip by 1.2 nose lengths (nasion to tip).
+double skin_delta_e(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
+  const Feature2d* el = find(obs.front_trained, "eye_left_center");
+  const Feature2d* er = find(obs.front_trained, "eye_right_center");
+  const Feature2d* tip = find(obs.front_trained, "nose_tip");
+  const Feature2d* s_tip = find(obs.side.features, "nose_tip");
+  const Feature2d* s_bridge = find(obs.side.features, "nose_bridge");
+  if (!el || !er || !tip || !s_tip || !s_bridge) return PairMeasures::kNaN;
+  const double eyes = cv::norm(el->px - er->px);
+  std::vector<cv::Vec3d> fronts;
+  for (const Feature2d* e : {el, er}) {
+    const cv::Point2d c(e->px.x - 0.5, 0.5 * (e->px.y + tip->px.y) - 0.5);
+    if (auto lab = patch_lab(front, c, 0.1 * eyes)) fronts.push_back(*lab);
+  }
+  const double nose = s_tip->px.y - s_bridge->px.y;
+  if (fronts.empty() || nose <= 0) return PairMeasures::kNaN;
+  const double behind = obs.side_faces_left ? 1.0 : -1.0;
+  const cv::Point2d c(s_tip->px.x + behind * 1.2 * nose - 0.5, s_bridge->px.y + 0.6 * nose - 0.5);
+  const auto side_lab = patch_lab(side, c, 0.2 * nose);
+  if (!side_lab) return PairMeasures::kNaN;
+  double best = 1e300;
+  for (const cv::Vec3d& f : fronts) best = std::min(best, cv::norm(f - *side_lab));
+  return best;
+}
+
+// CIE a* x b* histogram (normalised) of the subject's blob (vision::head_mask) above
+// `bottom_row`: hair, skin and clothes, without the lightness the two views are lit with
+// differently. Empty when there is no blob.
+cv::Mat subject_histogram(const cv::Mat& bgr, double bottom_row) {
+  cv::Mat mask = head_mask(foreground_probability(bgr, {}));
+  if (mask.empty()) return {};
+  if (bottom_row < mask.rows) mask.rowRange(std::max(0, int(bottom_row)), mask.rows).setTo(0);
+  if (cv::countNonZero(mask) == 0) return {};
+  cv::Mat lab, hist;
+  cv::cvtColor(bgr, lab, cv::COLOR_BGR2Lab);
+  const int channels[] = {1, 2}, bins[] = {32, 32};
+  const float a[] = {64, 192}, b[] = {64, 192};  // 8-bit a*, b* (128 = neutral)
+  const float* ranges[] = {a, b};
+  cv::calcHist(&lab, 1, channels, mask, hist, 2, bins, ranges);
+  cv::normalize(hist, hist, 1, 0, cv::NORM_L1);
+  return hist;
+}
+
+// The subject's colours down to the chin plus 1.5 nose-bridge-to-chin heights (neck and
+// collar) in both photos; NaN without the chin and nose bridge in both.
+double colour_distance(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
+  const Feature2d* fc = find(obs.front_trained, "chin_bottom");
+  const Feature2d* fn = find(obs.front_trained, "nose_bridge");
+  const Feature2d* sc = find(obs.side.features, "chin_bottom");
+  const Feature2d* sn = find(obs.side.features, "nose_bridge");
+  if (!fc || !fn || !sc || !sn) return PairMeasures::kNaN;
+  const cv::Mat hf = subject_histogram(front, fc->px.y + 1.5 * (fc->px.y - fn->px.y));
+  const cv::Mat hs = subject_histogram(side, sc->px.y + 1.5 * (sc->px.y - sn->px.y));
+  if (hf.empty() || hs.empty()) return PairMeasures::kNaN;
+  return cv::compareHist(hf, hs, cv::HISTCMP_BHATTACHARYYA);
+}
+
+InputCheck make(const char* name, bool passed, double value, double limit, std::string problem) {
+  InputCheck c;
+  c.name = name;
+  c.passed = passed;
+  c.value = value;
+  c.limit = limit;
+  if (!passed) c.problem = std::move(problem);
+  return c;
+}
+
+}  // namespace
+
+double turn_index(cv::Point2d left, cv::Point2d right, cv::Point2d tip) {
+  const double half = 0.5 * cv::norm(right - left);
+  if (!(half > 1e-9)) throw std::invalid_argument("turn index: the eye corners coincide");
+  const cv::Point2d axis = (right - left) / (2 * half);
+  return (tip - (left + right) * 0.5).dot(axis) / half;
+}
+
+double blur_index(const cv::Mat& grey) {
+  if (grey.empty() || grey.type() != CV_8UC1)
+    throw std::invalid_argument("blur index: expected a non-empty 8-bit grey image");
+  cv::Mat f;
+  grey.convertTo(f, CV_32F);
+  double worst = 0;
+  for (int dir = 0; dir < 2; ++dir) {  // 0: along columns (vertical), 1: along rows
+    cv::Mat b;
+    cv::blur(f, b, dir == 0 ? cv::Size(1, 9) : cv::Size(9, 1), cv::Point(-1, -1),
+             cv::BORDER_REFLECT);
+    const cv::Mat kernel =
+        dir == 0 ? (cv::Mat_<float>(2, 1) << -1, 1) : (cv::Mat_<float>(1, 2) << -1, 1);
+    cv::Mat df, db;
+    cv::filter2D(f, df, CV_32F, kernel, cv::Point(0, 0));
+    cv::filter2D(b, db, CV_32F, kernel, cv::Point(0, 0));
+    df = cv::abs(df), db = cv::abs(db);
+    cv::Mat v = cv::max(df - db, 0.0);
+    const double s_f = cv::sum(df)[0], s_v = cv::sum(v)[0];
+    worst = std::max(worst, s_f > 0 ? (s_f - s_v) / s_f : 1.0);
+  }
+  return worst;
+}
+
+PairMeasures measure_pair(const cv::Mat& front_in, const cv::Mat& side_in,
+                          const FaceObservation& obs) {
+  if (front_in.empty() || side_in.empty())
+    throw std::invalid_argument("input check: the front or side photo is empty");
+  const cv::Mat front = to_bgr8(front_in, "front photo"), side = to_bgr8(side_in, "side photo");
+  if (front.cols != obs.front.width || front.rows != obs.front.height ||
+      side.cols != obs.side.width || side.rows != obs.side.height)
+    throw std::invalid_argument("input check: the photos are not the ones observed");
+  PairMeasures m;
+  // The two photos' detections are independent: the side's runs on a second thread.
+  auto side_faces = std::async(std::launch::async, [&] { return detect_faces(side); });
+  const std::vector<DetectedFace> ff = detect_faces(front), sf = side_faces.get();
+  const DetectedFace* f = nullptr;
+  m.front_faces = comparable_faces(ff, &f);
+  if (f) {
+    m.front_face = f->box;
+    m.front_score = f->score;
+    measure_face_image(front, f->box, m);
+  }
+  if (f) {
+    m.front_points = network_points(front, f->box);
+    m.front_turn = points_turn(m.front_points);
+  }
+  const DetectedFace* s = nullptr;
+  m.side_faces = comparable_faces(sf, &s);
+  if (s) {
+    m.side_score = s->score;
+    m.side_face = s->box;
+    m.side_points = network_points(side, s->box);
+    m.side_turn = points_turn(m.side_points);
+    if (known(m.side_turn)) {
+      const double front_deg = known(m.front_turn) ? std::atan(m.front_turn / kTurnPerTan) : 0.0;
+      m.side_angle_deg = std::abs(std::atan(m.side_turn / kTurnPerTan) - front_deg) * 180.0 / M_PI;
+    }
+  }
+  m.height_residual = height_residual(obs);
+  m.skin_delta_e = skin_delta_e(front, side, obs);
+  m.colour_distance = colour_distance(front, side, obs);
+  // A face found in the side photo whose nose points the way --side-camera says (turn index < 0:
+  // toward the image left) outvotes vision's silhouette cues (hair as dark as the background
+  // leaves them a skin-only blob to judge).
+  const bool face_agrees = known(m.side_turn) && (m.side_turn < 0) == obs.side_faces_left;
+  if (obs.side_camera_given && obs.side_seen_faces_left != obs.side_faces_left && !face_agrees)
+    m.side_facing_against = obs.side_seen_confidence;
+  return m;
+}
+
+void PairCheckLimits::check() const {
+  for (double v :
+       {sure_face_score, max_front_turn, min_side_angle_deg, min_face_px, max_blur, max_clipped,
+        min_luma, max_facing_against, max_height_residual, max_skin_delta_e, max_colour_distance})
+    if (!(v > 0) || !std::isfinite(v))
+      throw std::invalid_argument("input check: every limit must be positive and finite");
+}
+
+bool PairCheck::passed() const {
+  return std::all_of(checks.begin(), checks.end(), [](const InputCheck& c) { return c.passed; });
+}
+
+std::string PairCheck::first_failure() const {
+  for (const auto& c : checks)
+    if (!c.passed) return c.name + ": " + c.problem;
+  return {};
+}
+
+PairCheck check_pair(const PairMeasures& m, const PairCheckLimits& lim) {
+  lim.check();
+  PairCheck out;
+  out.measures = m;
+  auto& c = out.checks;
+  const bool front_sure = m.front_faces > 0 && m.front_score >= lim.sure_face_score;
+  const bool side_sure = m.side_faces > 0 && m.side_score >= lim.sure_face_score;
+  const bool side_frontal =
+      side_sure && known(m.side_turn) && std::abs(m.side_turn) <= lim.max_front_turn;
+  const bool front_frontal =
+      front_sure && !(known(m.front_turn) && std::abs(m.front_turn) > lim.max_front_turn);
+  c.push_back(make("swapped", !(side_frontal && !front_frontal), m.side_turn, lim.max_front_turn,
+                   "the front photo shows no frontal face and the side photo does: front and "
+                   "side are swapped"));
+  c.push_back(make(
+      "front_face", m.front_faces == 1 && front_sure, m.front_faces, 1,
+      m.front_faces == 0 ? "no face found in the front photo"
+      : m.front_faces > 1
+          ? std::to_string(m.front_faces) + " faces in the front photo; it must show one person"
+          : fmt("the front photo's face is not clearly a face seen from the front "
+                "(detector score %.2f, limit %.2f)",
+                m.front_score, lim.sure_face_score)));
+  const bool face = m.front_faces > 0;
+  c.push_back(make("face_size", !face || m.front_face.width >= lim.min_face_px, m.front_face.width,
+                   lim.min_face_px,
+                   fmt("the face in the front photo is %.0f px wide; at least %.0f px are needed",
+                       m.front_face.width, lim.min_face_px)));
+  c.push_back(make("sharpness", !known(m.front_blur) || m.front_blur <= lim.max_blur, m.front_blur,
+                   lim.max_blur,
+                   fmt("the front photo's face is blurred (blur index %.2f, limit %.2f)",
+                       m.front_blur, lim.max_blur)));
+  const bool clipped = known(m.front_clipped) && m.front_clipped > lim.max_clipped;
+  const bool dark = known(m.front_luma) && m.front_luma < lim.min_luma;
+  c.push_back(make("exposure", !clipped && !dark, clipped ? m.front_clipped : m.front_luma,
+                   clipped ? lim.max_clipped : lim.min_luma,
+                   clipped ? fmt("the front photo's face is over-exposed (%.0f %% of it white, "
+                                 "limit %.0f %%)",
+                                 100 * m.front_clipped, 100 * lim.max_clipped)
+                           : fmt("the front photo's face is too dark (mean luminance %.0f, "
+                                 "limit %.0f)",
+                                 m.front_luma, lim.min_luma)));
+  c.push_back(make("front_frontal",
+                   !known(m.front_turn) || std::abs(m.front_turn) <= lim.max_front_turn,
+                   m.front_turn, lim.max_front_turn,
+                   fmt("the head is turned in the front photo (turn index %.2f, about %.0f "
+                       "degrees; limit %.2f)",
+                       m.front_turn, std::atan(std::abs(m.front_turn) / kTurnPerTan) * 180 / M_PI,
+                       lim.max_front_turn)));
+  const bool side_ok =
+      !side_sure || !known(m.side_angle_deg) || m.side_angle_deg >= lim.min_side_angle_deg;
+  c.push_back(make("side_profile", side_ok, m.side_angle_deg, lim.min_side_angle_deg,
+                   fmt("the side photo is not a profile: it sees the face %.0f degrees from the "
+                       "front photo (at least %.0f needed)",
+                       m.side_angle_deg, lim.min_side_angle_deg)));
+  c.push_back(make("side_camera", m.side_facing_against <= lim.max_facing_against,
+                   m.side_facing_against, lim.max_facing_against,
+                   fmt("the profile looks the other way than --side-camera says (confidence "
+                       "%.2f, limit %.2f)",
+                       m.side_facing_against, lim.max_facing_against)));
+  c.push_back(make("same_person_heights",
+                   !known(m.height_residual) || m.height_residual <= lim.max_height_residual,
+                   m.height_residual, lim.max_height_residual,
+                   fmt("nose, lips and chin sit at other proportions in the two photos "
+                       "(%.3f of the face height, limit %.3f): two different people?",
+                       m.height_residual, lim.max_height_residual)));
+  c.push_back(make("same_person_skin",
+                   !known(m.skin_delta_e) || m.skin_delta_e <= lim.max_skin_delta_e, m.skin_delta_e,
+                   lim.max_skin_delta_e,
+                   fmt("the cheeks differ in colour between the two photos (delta E %.1f, "
+                       "limit %.1f): two different people?",
+                       m.skin_delta_e, lim.max_skin_delta_e)));
+  c.push_back(make("same_person_colours",
+                   !known(m.colour_distance) || m.colour_distance <= lim.max_colour_distance,
+                   m.colour_distance, lim.max_colour_distance,
+                   fmt("hair, skin and collar differ in colour between the two photos "
+                       "(distance %.2f, limit %.2f): two different people?",
+                       m.colour_distance, lim.max_colour_distance)));
+  return out;
+}
+
+}  // namespace orthoface::vision
