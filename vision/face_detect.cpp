@@ -6,6 +6,8 @@
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <opencv2/imgproc.hpp>
 
+#include "vision/face_landmarks68.h"
+
 namespace orthoface::vision {
 
 constexpr double kMinFaceFraction = 7;  // smallest face found: 1/7 of the shorter side
@@ -52,6 +54,37 @@ std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score) {
   std::sort(faces.begin(), faces.end(),
             [](const DetectedFace& a, const DetectedFace& b) { return a.score > b.score; });
   return faces;
+}
+
+double turn_index(cv::Point2d left, cv::Point2d right, cv::Point2d tip) {
+  const double half = 0.5 * cv::norm(right - left);
+  if (!(half > 1e-9)) throw std::invalid_argument("turn index: the eye corners coincide");
+  const cv::Point2d axis = (right - left) / (2 * half);
+  return (tip - (left + right) * 0.5).dot(axis) / half;
+}
+
+FoundFace find_face(const cv::Mat& image) {
+  const std::vector<DetectedFace> faces = detect_faces(image);
+  FoundFace out;
+  const DetectedFace* widest = nullptr;
+  for (const auto& f : faces)
+    if (!widest || f.box.width > widest->box.width) widest = &f;
+  if (!widest) return out;
+  // A person far behind does not count, a second sitter does.
+  for (const auto& f : faces) out.faces += f.box.width >= 0.5 * widest->box.width;
+  out.box = widest->box;
+  out.score = widest->score;
+  const FaceLandmarker68* net = shared_landmarker();
+  if (!net) return out;
+  cv::Mat bgr = image;
+  if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+  const double side = 1.2 * std::max(out.box.width, out.box.height);
+  const cv::Point2d c = (out.box.tl() + out.box.br()) * 0.5;
+  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side});
+  out.points.assign(f.points.begin(), f.points.end());
+  if (cv::norm(f.points[45] - f.points[36]) > 1e-6)
+    out.turn = turn_index(f.points[36], f.points[45], f.points[30]);
+  return out;
 }
 
 }  // namespace orthoface::vision

@@ -8,6 +8,8 @@
 
 #include <opencv2/core.hpp>
 
+#include "vision/observation.h"
+
 namespace orthoface::vision {
 
 struct DetectedFace {
@@ -20,6 +22,20 @@ struct DetectedFace {
 // fills more of the photo than that): small photos are upsampled, large ones reduced. Throws
 // std::invalid_argument on an empty image or a pixel type other than 8-bit grey / BGR.
 std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score = 0.0);
+
+// The turn index of a face from its outer eye corners and nose tip (image pixels): the nose
+// tip's offset from the eyes' midpoint over half their distance, along the eye line. A head
+// turned by t shows about kTurnPerTan x tan t (nose tip about 38 mm ahead of the eye corners,
+// 90 mm apart): 0 frontal, 0.3 at 20 degrees, 0.85 at 45, large or undefined in profile. Signed:
+// > 0 when the nose points toward the image right. Throws std::invalid_argument when the eye
+// corners coincide.
+inline constexpr double kTurnPerTan = 0.85;
+double turn_index(cv::Point2d eye_image_left, cv::Point2d eye_image_right, cv::Point2d nose_tip);
+
+// The widest face detect_faces finds (score >= 0) in an 8-bit BGR or grey photo, how many others
+// are at least half as wide, and the landmark network's points and turn index on it. Same errors
+// as detect_faces.
+FoundFace find_face(const cv::Mat& image);
 
 // Decodes the detector now (about 0.3 s, once per process; thread-safe), e.g. on another thread
 // while the photos are observed, so that detect_faces does not wait for it later.

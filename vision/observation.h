@@ -1,5 +1,6 @@
 #pragma once
 
+#include <limits>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +16,16 @@ struct Feature2d {
   std::string method;       // how it was found: "edge", "filter", "profile-curvature",
                             // "position-model", "mirrored", "haar", "dlib", ...
   bool mirrored = false;    // copied across the centre line from the other side (seed 004 §4)
+};
+
+// The face a photo shows, as vision::find_face finds it: dlib's face detector, then the landmark
+// network on the widest face.
+struct FoundFace {
+  int faces = 0;     // faces scoring >= 0 at least half as wide as the widest
+  cv::Rect2d box;    // the widest one, image pixels (empty when faces == 0)
+  double score = 0;  // its detector score (0 is dlib's threshold; profiles score low)
+  std::vector<cv::Point2d> points;  // the network's 68 points on it (iBUG); none without weights
+  double turn = std::numeric_limits<double>::quiet_NaN();  // vision::turn_index of the points
 };
 
 // What vision found in one view.
@@ -49,6 +60,10 @@ struct FaceObservation {
   bool side_seen_faces_left = true;
   double side_seen_confidence = 0.0;
   bool side_camera_given = false;
+  // The face the side photo shows (a profile usually none: dlib's detector reaches about 60
+  // degrees); with --side-camera auto a clear one decides which way the profile looks. Not
+  // written to observation.json.
+  FoundFace side_face;
   // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
   // before the consensus replaced any by the filters'; empty when it did not run. The midline
   // features above sit on the centre line; these do not, so the head's turn shows in them.

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "vision/contour_chain.h"
+#include "vision/face_detect.h"
 #include "vision/feature_filters.h"
 #include "vision/foreground.h"
 #include "vision/front_boundary.h"
@@ -51,6 +52,9 @@ void ObserveOptions::check() const {
 namespace {
 
 constexpr double kHeightPerWidth = 1.25;  // crown-to-chin height / head width, lower bound
+// A side photo's face turned at least this much (turn index, about 20 degrees) says which way
+// the profile looks.
+constexpr double kClearSideTurn = 0.3;
 
 // Index coordinates -> capture convention (pixel centre = index + 0.5).
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
@@ -231,12 +235,25 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // The two photos' segmentations are independent: the side's runs on a second thread.
   std::future<SideBlob> side_seg =
       std::async(std::launch::async, side_blob, std::cref(side), std::cref(bgs));
+  // The face the side photo shows, if any (dlib's detector reaches about 60 degrees).
+  std::future<FoundFace> side_face = std::async(std::launch::async, find_face, std::cref(side));
   const FrontHead head = segment_front(front, bgf);
   const double row_scale = double(front.rows) / side.rows;
   const double min_h = head.mask.empty()
                            ? 0.0
                            : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
-  const SideResult s = observe_side(side, side_seg.get(), o.side_camera, min_h, obs.warnings);
+  obs.side_face = side_face.get();
+  // A face found in the side photo points the way the profile looks (its nose toward the image
+  // left: turn index < 0): with --side-camera auto a clear turn decides, before the silhouette's
+  // cues, which a skin-only blob (hair as dark as the background) can mislead.
+  SideCamera cam = o.side_camera;
+  if (cam == SideCamera::Auto && std::abs(obs.side_face.turn) >= kClearSideTurn)
+    cam = obs.side_face.turn < 0 ? SideCamera::Left : SideCamera::Right;
+  const SideResult s = observe_side(side, side_seg.get(), cam, min_h, obs.warnings);
+  if (cam != o.side_camera && s.seen_faces_left != s.faces_left && s.seen_confidence >= 0.3)
+    obs.warnings.push_back(
+        "side view: the face found in it looks the other way than the silhouette suggests; "
+        "the face decided (give --side-camera left|right to say)");
   obs.side_faces_left = s.faces_left;
   obs.side_seen_faces_left = s.seen_faces_left;
   obs.side_seen_confidence = s.seen_confidence;

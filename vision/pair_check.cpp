@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <future>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -20,25 +19,10 @@ namespace {
 
 bool known(double v) { return std::isfinite(v); }
 
-// turn_index = kTurnPerTan x tan(turn): the nose tip about 38 mm ahead of the outer eye
-// corners, which are about 90 mm apart.
-constexpr double kTurnPerTan = 0.85;
-
 std::string fmt(const char* format, double a, double b = 0, double c = 0) {
   char buf[256];
   std::snprintf(buf, sizeof buf, format, a, b, c);
   return buf;
-}
-
-// The faces at least half as wide as the widest: a person far behind does not count, a second
-// sitter does.
-int comparable_faces(const std::vector<DetectedFace>& faces, const DetectedFace** widest) {
-  *widest = nullptr;
-  for (const auto& f : faces)
-    if (!*widest || f.box.width > (*widest)->box.width) *widest = &f;
-  int n = 0;
-  for (const auto& f : faces) n += f.box.width >= 0.5 * (*widest)->box.width;
-  return n;
 }
 
 // The inner part of a face box (the detector's box reaches the hairline and the jaw's edge),
@@ -67,21 +51,6 @@ void measure_face_image(const cv::Mat& bgr, const cv::Rect2d& box, PairMeasures&
   cv::cvtColor(bgr(in), luma, cv::COLOR_BGR2GRAY);
   m.front_luma = cv::mean(luma)[0];
   m.front_clipped = double(cv::countNonZero(luma >= 250)) / luma.total();
-}
-
-// The trained network's 68 points for the face in `box` of `bgr`; none without the weights.
-std::vector<cv::Point2d> network_points(const cv::Mat& bgr, const cv::Rect2d& box) {
-  const FaceLandmarker68* net = shared_landmarker();
-  if (!net) return {};
-  const double side = 1.2 * std::max(box.width, box.height);
-  const cv::Point2d c = (box.tl() + box.br()) * 0.5;
-  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side});
-  return {f.points.begin(), f.points.end()};
-}
-
-double points_turn(const std::vector<cv::Point2d>& p) {
-  if (p.size() != 68 || cv::norm(p[45] - p[36]) < 1e-6) return PairMeasures::kNaN;
-  return turn_index(p[36], p[45], p[30]);
 }
 
 const Feature2d* find(const std::map<std::string, Feature2d>& m, const char* name) {
@@ -220,13 +189,6 @@ InputCheck make(const char* name, bool passed, double value, double limit, std::
 
 }  // namespace
 
-double turn_index(cv::Point2d left, cv::Point2d right, cv::Point2d tip) {
-  const double half = 0.5 * cv::norm(right - left);
-  if (!(half > 1e-9)) throw std::invalid_argument("turn index: the eye corners coincide");
-  const cv::Point2d axis = (right - left) / (2 * half);
-  return (tip - (left + right) * 0.5).dot(axis) / half;
-}
-
 double blur_index(const cv::Mat& grey) {
   if (grey.empty() || grey.type() != CV_8UC1)
     throw std::invalid_argument("blur index: expected a non-empty 8-bit grey image");
@@ -259,27 +221,22 @@ PairMeasures measure_pair(const cv::Mat& front_in, const cv::Mat& side_in,
       side.cols != obs.side.width || side.rows != obs.side.height)
     throw std::invalid_argument("input check: the photos are not the ones observed");
   PairMeasures m;
-  // The two photos' detections are independent: the side's runs on a second thread.
-  auto side_faces = std::async(std::launch::async, [&] { return detect_faces(side); });
-  const std::vector<DetectedFace> ff = detect_faces(front), sf = side_faces.get();
-  const DetectedFace* f = nullptr;
-  m.front_faces = comparable_faces(ff, &f);
-  if (f) {
-    m.front_face = f->box;
-    m.front_score = f->score;
-    measure_face_image(front, f->box, m);
+  const FoundFace f = find_face(front);
+  m.front_faces = f.faces;
+  if (f.faces > 0) {
+    m.front_face = f.box;
+    m.front_score = f.score;
+    m.front_points = f.points;
+    m.front_turn = f.turn;
+    measure_face_image(front, f.box, m);
   }
-  if (f) {
-    m.front_points = network_points(front, f->box);
-    m.front_turn = points_turn(m.front_points);
-  }
-  const DetectedFace* s = nullptr;
-  m.side_faces = comparable_faces(sf, &s);
-  if (s) {
-    m.side_score = s->score;
-    m.side_face = s->box;
-    m.side_points = network_points(side, s->box);
-    m.side_turn = points_turn(m.side_points);
+  const FoundFace& s = obs.side_face;
+  m.side_faces = s.faces;
+  if (s.faces > 0) {
+    m.side_score = s.score;
+    m.side_face = s.box;
+    m.side_points = s.points;
+    m.side_turn = s.turn;
     if (known(m.side_turn)) {
       const double front_deg = known(m.front_turn) ? std::atan(m.front_turn / kTurnPerTan) : 0.0;
       m.side_angle_deg = std::abs(std::atan(m.side_turn / kTurnPerTan) - front_deg) * 180.0 / M_PI;

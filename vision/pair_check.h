@@ -10,6 +10,7 @@
 
 #include <opencv2/core.hpp>
 
+#include "vision/face_detect.h"
 #include "vision/observation.h"
 
 namespace orthoface::vision {
@@ -26,9 +27,10 @@ struct PairMeasures {
   double front_blur = kNaN;     // no-reference blur of the face (blur_index), 0 sharp .. 1 flat
   double front_clipped = kNaN;  // share of the face's pixels at luminance >= 250
   double front_luma = kNaN;     // mean luminance of the face, 0..255
-  int side_faces = 0;           // faces in the side photo (as front_faces)
-  double side_score = kNaN;     // the best one's score
-  double side_turn = kNaN;      // its turn index (trained 68 points in the side photo)
+  // The side photo's face: observation.side_face.
+  int side_faces = 0;        // faces in the side photo (as front_faces)
+  double side_score = kNaN;  // the widest one's score
+  double side_turn = kNaN;   // its turn index
   // The angle between the two photos' views of the head, degrees: |atan(side_turn / 0.85) -
   // atan(front_turn / 0.85)| (90 for a front and a side photo, 45 for a 45-degree photo as the
   // side); NaN without a face in the side photo. Below about 60 degrees the network places a
@@ -50,21 +52,15 @@ struct PairMeasures {
   double side_facing_against = 0;
 };
 
-// The turn index of a face from its outer eye corners and nose tip (image pixels): the nose
-// tip's offset from the eyes' midpoint over half their distance. A head turned by t shows
-// about 0.85 tan t (nose tip about 38 mm ahead of the eye corners, 90 mm apart): 0 frontal,
-// 0.3 at 20 degrees, 0.85 at 45, large or undefined in profile. Signed: > 0 when the nose
-// points toward the image right. Throws std::invalid_argument when the eye corners coincide.
-double turn_index(cv::Point2d eye_image_left, cv::Point2d eye_image_right, cv::Point2d nose_tip);
-
 // No-reference blur of an 8-bit grey image (Crete-Roffet et al. 2007, "The blur effect"):
 // how much of its neighbour differences survive a 9-tap box blur, the worse of rows and
 // columns; 0 sharp, 1 no detail at all. Throws std::invalid_argument on an empty or non-8-bit
 // single-channel image.
 double blur_index(const cv::Mat& grey);
 
-// Measures a pair: `front` / `side` the photos vision observed (8-bit BGR), `obs` its
-// observation. Throws std::invalid_argument on empty photos or an observation of other sizes.
+// Measures a pair: `front` / `side` the photos vision observed, `obs` its observation (by
+// observe(): the side photo's face comes from it). Throws std::invalid_argument on empty photos or
+// an observation of other sizes.
 PairMeasures measure_pair(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs);
 
 // The limits (docs/input_check.md gives the figures behind each).

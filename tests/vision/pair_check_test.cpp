@@ -100,6 +100,33 @@ TEST_F(SimPair, OneSureFaceInTheFrontPhotoTwoInTwoFronts) {
   EXPECT_EQ(detect_faces(two).size(), 2u);
 }
 
+TEST_F(SimPair, FindFaceGivesTheLandmarksAndTurn) {
+  const FoundFace f = find_face(cap_->front);
+  EXPECT_EQ(f.faces, 1);
+  ASSERT_EQ(f.points.size(), 68u);
+  EXPECT_LT(std::abs(f.turn), 0.1);
+  EXPECT_TRUE(f.box.contains(f.points[30]));  // the nose tip inside the face box
+  const FoundFace turned = find_face(*view30_);
+  ASSERT_EQ(turned.faces, 1);
+  EXPECT_GT(std::abs(turned.turn), 0.3);
+  cv::Mat mirrored;
+  cv::flip(*view30_, mirrored, 1);
+  EXPECT_NEAR(find_face(mirrored).turn, -turned.turn, 0.1);
+  EXPECT_EQ(find_face(cv::Mat(480, 640, CV_8UC3, cv::Scalar(90, 90, 90))).faces, 0);
+  EXPECT_THROW(find_face(cv::Mat()), std::invalid_argument);
+}
+
+// The sim profile shows no face; a side photo that does decides which way it looks (auto).
+TEST_F(SimPair, AFaceInTheSidePhotoDecidesWhichWayItLooks) {
+  EXPECT_EQ(observe(cap_->front, cap_->side).side_face.faces, 0);
+  const FaceObservation obs = observe(cap_->front, *view30_);
+  ASSERT_EQ(obs.side_face.faces, 1);
+  EXPECT_EQ(obs.side_faces_left, obs.side_face.turn < 0);
+  cv::Mat mirrored;
+  cv::flip(*view30_, mirrored, 1);
+  EXPECT_EQ(observe(cap_->front, mirrored).side_faces_left, !obs.side_faces_left);
+}
+
 TEST_F(SimPair, ARightPairPassesEveryCheck) {
   const PairCheck c = check(cap_->front, cap_->side);
   EXPECT_TRUE(c.passed()) << c.first_failure();
