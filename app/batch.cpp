@@ -30,7 +30,9 @@ constexpr int kTagDone = 1, kTagErrors = 2;
 
 const char* kUsage =
     "usage: orthoface-batch pairs DIR -o OUT [--force]  (DIR/<name>/front.* + side.*\n"
-    "                                                 [+ rig.yaml]; PNG, JPEG, BMP, TIFF, WebP,\n"
+    "                                                 [+ rig.yaml] [+ front_background.*,\n"
+    "                                                 side_background.*: clean plates];\n"
+    "                                                 PNG, JPEG, BMP, TIFF, WebP,\n"
     "                                                 PPM/PGM; a pair the input check refuses is\n"
     "                                                 a failed item, with --force modelled)\n"
     "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
@@ -40,8 +42,9 @@ const char* kUsage =
     "       bad arguments.\n";
 
 // The photo named `stem` (front / side, any case) in an item folder: one file with an image
-// extension OpenCV reads. Throws std::runtime_error naming what is missing or ambiguous.
-fs::path item_photo(const fs::path& folder, const std::string& stem) {
+// extension OpenCV reads. Throws std::runtime_error naming what is missing or ambiguous; an
+// `optional` one that is missing gives an empty path.
+fs::path item_photo(const fs::path& folder, const std::string& stem, bool optional = false) {
   static const char* kExts[] = {".png",  ".jpg",  ".jpeg", ".bmp", ".tif",
                                 ".tiff", ".webp", ".ppm",  ".pgm"};
   std::vector<fs::path> found;
@@ -53,6 +56,7 @@ fs::path item_photo(const fs::path& folder, const std::string& stem) {
     for (const char* x : kExts)
       if (ext == x) found.push_back(e.path());
   }
+  if (found.empty() && optional) return {};
   if (found.empty())
     throw std::runtime_error("no " + stem + " image (" + stem + ".png, .jpg, ...)");
   if (found.size() > 1)
@@ -159,13 +163,18 @@ int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, in
       o.force = force;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
-      cv::Mat photos[2];
-      for (int k = 0; k < 2; ++k) {
-        const fs::path p = item_photo(items[i], k == 0 ? "front" : "side");
+      // The photos, then the clean plates (the cameras' empty scenes) when the item has them.
+      const char* stems[] = {"front", "side", "front_background", "side_background"};
+      cv::Mat photos[4];
+      for (int k = 0; k < 4; ++k) {
+        const fs::path p = item_photo(items[i], stems[k], k >= 2);
+        if (p.empty()) continue;
         photos[k] = cv::imread(p.string(), cv::IMREAD_COLOR);
         if (photos[k].empty())
           throw std::runtime_error(p.filename().string() + ": not a readable image");
       }
+      o.observe.background_front = photos[2];
+      o.observe.background_side = photos[3];
       const reconstruct::Reconstruction r = reconstruct::from_photos(photos[0], photos[1], o);
       reconstruct::write_reconstruction(r, (out / items[i].filename()).string());
       status[i] = 1.0;

@@ -32,10 +32,21 @@ Command reconstruct_command() {
             "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"},
+           {"front-background", true,
+            "F  the front camera's empty scene (a clean plate, same size): the head is cut out "
+            "by difference, which holds in front of a cluttered room"},
+           {"side-background", true, "F  the side camera's empty scene (clean plate)"},
            {"force", false,
             "model the pair even when the input check fails (the failures go to report.json's "
             "warnings); without it a failed check exits 3 (docs/input_check.md)"}},
           0};
+}
+
+cv::Mat read_photo(const std::string& path, const std::string& flag) {
+  require_file(path, flag);
+  cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
+  if (img.empty()) throw std::runtime_error(flag + " " + path + ": not a readable image");
+  return img;
 }
 
 reconstruct::ReconstructOptions options_from(const Args& a) {
@@ -61,15 +72,12 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
   o.adapt.method = method == "nnwa" ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;
   if (a.has("k")) o.adapt.k = to_int("k", a.get("k"), 1, 100000);
   o.force = a.has("force");
+  if (a.has("front-background"))
+    o.observe.background_front = read_photo(a.get("front-background"), "--front-background");
+  if (a.has("side-background"))
+    o.observe.background_side = read_photo(a.get("side-background"), "--side-background");
   o.check();
   return o;
-}
-
-cv::Mat read_photo(const std::string& path, const std::string& flag) {
-  require_file(path, flag);
-  cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
-  if (img.empty()) throw std::runtime_error(flag + " " + path + ": not a readable image");
-  return img;
 }
 
 }  // namespace

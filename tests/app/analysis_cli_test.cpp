@@ -197,13 +197,20 @@ TEST(AnalysisCli, BatchPairsTakesJpegAndRecordsEachFailure) {
 }
 
 // A pair the input check refuses (photos swapped) is a failed item naming the check; with
-// --force it is modelled.
+// --force it is modelled. An item's clean plates are used.
 TEST(AnalysisCli, BatchPairsRecordsTheInputCheckThatRefusedAPair) {
   const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
   if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
   const fs::path w = testing::temp_dir("analysis_cli_batch_refused");
   ASSERT_EQ(orthoface("simulate --subject 3 --out sim", w).code, 0);
-  for (const char* d : {"pairs/right", "pairs/swapped"}) fs::create_directories(w / d);
+  ASSERT_EQ(orthoface("simulate --subject 6 --background cluttered --out clutter", w).code, 0);
+  for (const char* d : {"pairs/right", "pairs/swapped", "pairs/plates"})
+    fs::create_directories(w / d);
+  // A pair in front of clutter with its clean plates (front_background.*, side_background.*).
+  fs::copy_file(w / "clutter/front.png", w / "pairs/plates/front.png");
+  fs::copy_file(w / "clutter/side.png", w / "pairs/plates/side.png");
+  fs::copy_file(w / "clutter/background.png", w / "pairs/plates/front_background.png");
+  fs::copy_file(w / "clutter/background_side.png", w / "pairs/plates/side_background.png");
   fs::copy_file(w / "sim/front.png", w / "pairs/right/front.png");
   fs::copy_file(w / "sim/side.png", w / "pairs/right/side.png");
   fs::copy_file(w / "sim/side.png", w / "pairs/swapped/front.png");
@@ -211,8 +218,12 @@ TEST(AnalysisCli, BatchPairsRecordsTheInputCheckThatRefusedAPair) {
   const Result r = run("'" + batch.string() + "'", "pairs pairs -o out", w);
   EXPECT_EQ(r.code, 1) << r.err;
   const auto j = nlohmann::json::parse(slurp(w / "out" / "batch_report.json"));
-  EXPECT_EQ(j["ok"], 1);
+  EXPECT_EQ(j["ok"], 2);
   EXPECT_EQ(j["refused_by_input_check"]["swapped"], 1);
+  ASSERT_EQ(orthoface("eval out/plates --truth clutter", w).code, 0);  // without plates: 10.9 %
+  EXPECT_LT(
+      nlohmann::json::parse(slurp(w / "out/plates/eval.json"))["relative_error"].get<double>(),
+      0.005);
   for (const auto& it : j["items"])
     if (it["name"] == "swapped") {
       EXPECT_EQ(it["refused_by"], "swapped");
