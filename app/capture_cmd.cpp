@@ -28,6 +28,8 @@ Command capture_command() {
            {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
            {"timeout", true, "S  how long to wait for a pair (default 5)"},
            {"no-reconstruct", false, "only save the pair"},
+           front_background_flag(),
+           side_background_flag(),
            {"force", false, "model the pair even when the input check fails (exit 3 without)"}},
           0};
 }
@@ -52,6 +54,8 @@ int run_capture(int argc, char** argv) {
   if (a.has("fps")) o.fps = to_double("fps", a.get("fps"), 1, 240);
   const double timeout = a.has("timeout") ? to_double("timeout", a.get("timeout"), 0.1, 600) : 5.0;
   if (a.has("rig")) require_file(a.get("rig"), "--rig");
+  vision::ObserveOptions plates;  // read before anything is captured
+  read_clean_plates(a, plates, o.width, o.height);
   const std::string out = a.get("out");
   prepare_output_dir(out);
   const std::string pair_dir = out + "/pair";
@@ -71,6 +75,7 @@ int run_capture(int argc, char** argv) {
   if (a.has("no-reconstruct")) return 0;
   reconstruct::ReconstructOptions ro;
   ro.force = a.has("force");
+  ro.observe = plates;
   ro.rig = station_rig(a.get("rig"), a.get("front"), a.get("side"), o.width, o.height);
   try {
     const reconstruct::Reconstruction r =

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include <CLI/CLI.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 namespace orthoface::app {
 
@@ -150,6 +151,31 @@ void require_file(const std::string& path, const std::string& what) {
     throw std::runtime_error(what + " " + path + ": no such file");
   if (!std::filesystem::is_regular_file(path, ec))
     throw std::runtime_error(what + " " + path + ": not a regular file");
+}
+
+void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width, int height) {
+  for (const char* flag : {"front-background", "side-background"}) {
+    if (!a.has(flag)) continue;
+    const std::string path = a.get(flag), what = std::string("--") + flag;
+    require_file(path, what);
+    const cv::Mat plate = cv::imread(path, cv::IMREAD_COLOR);
+    if (plate.empty()) throw std::runtime_error(what + " " + path + ": not a readable image");
+    if (width > 0 && (plate.cols != width || plate.rows != height))
+      throw std::runtime_error(what + " " + path + ": " + std::to_string(plate.cols) + "x" +
+                               std::to_string(plate.rows) + ", the cameras capture " +
+                               std::to_string(width) + "x" + std::to_string(height));
+    (flag[0] == 'f' ? options.background_front : options.background_side) = plate;
+  }
+}
+
+Flag front_background_flag() {
+  return {"front-background", true,
+          "F  the front camera's empty scene (a clean plate, same size): the head is cut out by "
+          "difference, which holds in front of a cluttered room"};
+}
+
+Flag side_background_flag() {
+  return {"side-background", true, "F  the side camera's empty scene (clean plate)"};
 }
 
 }  // namespace orthoface::app

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "vision/observe.h"
+
 namespace orthoface::app {
 
 // One flag of a command: "--name VALUE" when takes_value, else "--name".
@@ -49,5 +51,15 @@ void prepare_output_dir(const std::string& dir);
 
 // Throws std::runtime_error when `path` is missing or not a regular file; `what` names it.
 void require_file(const std::string& path, const std::string& what);
+
+// The clean plates (each camera's empty scene) of --front-background / --side-background, when
+// given, into `options`; with width > 0 each must be width x height (the capture size). Throws
+// std::runtime_error naming the flag and file when one is missing, unreadable or of another size.
+void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width = 0,
+                       int height = 0);
+
+// The help lines of those two flags.
+Flag front_background_flag();
+Flag side_background_flag();
 
 }  // namespace orthoface::app

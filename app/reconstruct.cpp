@@ -32,10 +32,8 @@ Command reconstruct_command() {
             "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"},
-           {"front-background", true,
-            "F  the front camera's empty scene (a clean plate, same size): the head is cut out "
-            "by difference, which holds in front of a cluttered room"},
-           {"side-background", true, "F  the side camera's empty scene (clean plate)"},
+           front_background_flag(),
+           side_background_flag(),
            {"force", false,
             "model the pair even when the input check fails (the failures go to report.json's "
             "warnings); without it a failed check exits 3 (docs/input_check.md)"}},
@@ -72,10 +70,7 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
   o.adapt.method = method == "nnwa" ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;
   if (a.has("k")) o.adapt.k = to_int("k", a.get("k"), 1, 100000);
   o.force = a.has("force");
-  if (a.has("front-background"))
-    o.observe.background_front = read_photo(a.get("front-background"), "--front-background");
-  if (a.has("side-background"))
-    o.observe.background_side = read_photo(a.get("side-background"), "--side-background");
+  read_clean_plates(a, o.observe);
   o.check();
   return o;
 }

@@ -57,7 +57,9 @@ Command station_command() {
        {"retexture-every", true,
         "N  re-texture from the live frames every N output frames (default 1)"},
        {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
-       {"out", true, "DIR  pairs and the run summary (default station_out)"}},
+       {"out", true, "DIR  pairs and the run summary (default station_out)"},
+       front_background_flag(),
+       side_background_flag()},
       0};
 }
 
@@ -65,6 +67,7 @@ struct Settings {
   std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
   int width = 640, height = 480, refit_every = 0, retexture_every = 1;
+  vision::ObserveOptions observe;  // the clean plates for the refits
 };
 
 Settings settings_from(const Args& a) {
@@ -89,6 +92,7 @@ Settings settings_from(const Args& a) {
   s.bind = a.get("bind", s.bind);
   s.out = a.get("out", s.out);
   if (a.has("rig")) require_file(a.get("rig"), "--rig"), s.rig_file = a.get("rig");
+  read_clean_plates(a, s.observe, s.width, s.height);
   const bool ok =
       s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
   if (!ok)
@@ -153,6 +157,7 @@ void Station::start_fit(const capture::FramePair& pair) {
   if (fit_.valid()) return;  // one fit at a time
   reconstruct::ReconstructOptions o;
   o.rig = rig_;
+  o.observe = s_.observe;
   fit_ = std::async(std::launch::async, [pair, o] {
     return reconstruct::from_photos(pair.front.image, pair.side.image, o);
   });

@@ -110,6 +110,13 @@ TEST(StationCommand, BadInputGivesOneErrorLine) {
                 dir.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("not a video output device"), std::string::npos) << r.output;
+  // A clean plate of another size than the capture is refused before any camera opens.
+  cv::imwrite((dir / "plate.png").string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar::all(0)));
+  r = orthoface("station --front sim:1/front --side sim:1/side --front-background " +
+                (dir / "plate.png").string() + " --out " + dir.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.output.find("error: --front-background"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the cameras capture 640x480"), std::string::npos) << r.output;
 }
 
 TEST(StationCommand, OccupiedPortIsAnError) {
@@ -156,6 +163,14 @@ TEST(CaptureCommand, SavesOneSynchronizedPair) {
       "capture --front sim:2/front --side sim:2/side --no-reconstruct --out " + dir.string());
   EXPECT_EQ(again.code, 1);  // never overwrites a pair
   EXPECT_NE(again.output.find("already exists"), std::string::npos);
+  // Clean plates are checked before anything is captured: a missing one leaves no pair behind.
+  const auto other = orthoface::testing::temp_dir("capture_cmd_plates");
+  const CmdResult plate = orthoface(
+      "capture --front sim:2/front --side sim:2/side --side-background missing.png --out " +
+      other.string());
+  EXPECT_EQ(plate.code, 1);
+  EXPECT_NE(plate.output.find("missing.png"), std::string::npos) << plate.output;
+  EXPECT_FALSE(fs::exists(other / "pair"));
 }
 
 TEST(CalibrateCommand, BadInputGivesOneErrorLine) {
