@@ -187,6 +187,12 @@ InputCheck make(const char* name, bool passed, double value, double limit, std::
   return c;
 }
 
+// A check that passes when `value` is unknown (another check names what is missing) or at most
+// `limit`.
+InputCheck at_most(const char* name, double value, double limit, std::string problem) {
+  return make(name, !known(value) || value <= limit, value, limit, std::move(problem));
+}
+
 }  // namespace
 
 double blur_index(const cv::Mat& grey) {
@@ -299,10 +305,9 @@ PairCheck check_pair(const PairMeasures& m, const PairCheckLimits& lim) {
                    lim.min_face_px,
                    fmt("the face in the front photo is %.0f px wide; at least %.0f px are needed",
                        m.front_face.width, lim.min_face_px)));
-  c.push_back(make("sharpness", !known(m.front_blur) || m.front_blur <= lim.max_blur, m.front_blur,
-                   lim.max_blur,
-                   fmt("the front photo's face is blurred (blur index %.2f, limit %.2f)",
-                       m.front_blur, lim.max_blur)));
+  c.push_back(at_most("sharpness", m.front_blur, lim.max_blur,
+                      fmt("the front photo's face is blurred (blur index %.2f, limit %.2f)",
+                          m.front_blur, lim.max_blur)));
   const bool clipped = known(m.front_clipped) && m.front_clipped > lim.max_clipped;
   const bool dark = known(m.front_luma) && m.front_luma < lim.min_luma;
   c.push_back(make("exposure", !clipped && !dark, clipped ? m.front_clipped : m.front_luma,
@@ -331,24 +336,18 @@ PairCheck check_pair(const PairMeasures& m, const PairCheckLimits& lim) {
                    fmt("the profile looks the other way than --side-camera says (confidence "
                        "%.2f, limit %.2f)",
                        m.side_facing_against, lim.max_facing_against)));
-  c.push_back(make("same_person_heights",
-                   !known(m.height_residual) || m.height_residual <= lim.max_height_residual,
-                   m.height_residual, lim.max_height_residual,
-                   fmt("nose, lips and chin sit at other proportions in the two photos "
-                       "(%.3f of the face height, limit %.3f): two different people?",
-                       m.height_residual, lim.max_height_residual)));
-  c.push_back(make("same_person_skin",
-                   !known(m.skin_delta_e) || m.skin_delta_e <= lim.max_skin_delta_e, m.skin_delta_e,
-                   lim.max_skin_delta_e,
-                   fmt("the cheeks differ in colour between the two photos (delta E %.1f, "
-                       "limit %.1f): two different people?",
-                       m.skin_delta_e, lim.max_skin_delta_e)));
-  c.push_back(make("same_person_colours",
-                   !known(m.colour_distance) || m.colour_distance <= lim.max_colour_distance,
-                   m.colour_distance, lim.max_colour_distance,
-                   fmt("hair, skin and collar differ in colour between the two photos "
-                       "(distance %.2f, limit %.2f): two different people?",
-                       m.colour_distance, lim.max_colour_distance)));
+  c.push_back(at_most("same_person_heights", m.height_residual, lim.max_height_residual,
+                      fmt("nose, lips and chin sit at other proportions in the two photos "
+                          "(%.3f of the face height, limit %.3f): two different people?",
+                          m.height_residual, lim.max_height_residual)));
+  c.push_back(at_most("same_person_skin", m.skin_delta_e, lim.max_skin_delta_e,
+                      fmt("the cheeks differ in colour between the two photos (delta E %.1f, "
+                          "limit %.1f): two different people?",
+                          m.skin_delta_e, lim.max_skin_delta_e)));
+  c.push_back(at_most("same_person_colours", m.colour_distance, lim.max_colour_distance,
+                      fmt("hair, skin and collar differ in colour between the two photos "
+                          "(distance %.2f, limit %.2f): two different people?",
+                          m.colour_distance, lim.max_colour_distance)));
   return out;
 }
 
