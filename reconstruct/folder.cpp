@@ -77,6 +77,8 @@ nlohmann::json report_json(const Reconstruction& r) {
           {"head_yaw_deg", std::isfinite(rep.head_yaw_deg) ? nlohmann::json(rep.head_yaw_deg)
                                                            : nlohmann::json(nullptr)},
           {"head_turn_corrected", rep.head_turn_corrected},
+          // the side photo rescaled to the front photo's height by this (1: same height)
+          {"side_photo_scale", rep.side_photo_scale},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},

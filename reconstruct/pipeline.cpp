@@ -155,12 +155,29 @@ InputRefused::InputRefused(const std::string& check, const std::string& problem)
       check_(check),
       problem_(problem) {}
 
-Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
-                           const ReconstructOptions& options) {
-  options.check();
+Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
+                           const ReconstructOptions& options_in) {
+  options_in.check();
   if (front.empty()) throw std::invalid_argument("front photo is empty");
-  if (side.empty()) throw std::invalid_argument("side photo is empty");
-  if (options.rig) check_rig_fits(*options.rig, front, side);
+  if (side_in.empty()) throw std::invalid_argument("side photo is empty");
+  if (options_in.rig) check_rig_fits(*options_in.rig, front, side_in);
+  // Without a rig a side photo of another height is brought to the front photo's (the two views
+  // share their rows, seed 004 eq. 1), its clean plate with it.
+  cv::Mat side = side_in;
+  ReconstructOptions options = options_in;
+  double side_scale = 1;
+  if (!options.rig && side.rows != front.rows) {
+    side_scale = double(front.rows) / side.rows;
+    const int interp = side_scale < 1 ? cv::INTER_AREA : cv::INTER_LINEAR;
+    const cv::Size size(std::max(1, int(std::lround(side.cols * side_scale))), front.rows);
+    cv::resize(side_in, side, size, 0, 0, interp);
+    cv::Mat& plate = options.observe.background_side;
+    if (!plate.empty() && plate.size() == side_in.size()) {
+      cv::Mat scaled;  // a new buffer: the caller's plate stays as it is
+      cv::resize(plate, scaled, size, 0, 0, interp);
+      plate = scaled;
+    }
+  }
   const auto t0 = Clock::now();
   std::future<void> detector;  // ready by the time the input check needs it
   if (options.check_input) detector = std::async(std::launch::async, vision::prepare_face_detector);
@@ -186,6 +203,7 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
   if (options.check_input)
     r.report.stage_ms.insert(r.report.stage_ms.begin() + 1, {"input_check", check_ms});
   r.report.input_checks = checks;
+  r.report.side_photo_scale = side_scale;
   r.report.warnings.insert(r.report.warnings.begin(), failures.begin(), failures.end());
   r.report.front_landmarker = vision::front_landmarker_name(options.observe.landmarker);
   for (const std::string& w : obs.warnings)

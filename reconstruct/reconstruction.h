@@ -73,6 +73,9 @@ struct ReconstructionReport {
   bool head_turn_corrected = false;
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
   std::vector<vision::InputCheck> input_checks;  // empty when the check did not run
+  // The side photo's scale to the front photo's height (1 when they share it; without a rig a
+  // side photo of another height is rescaled and kept so in the reconstruction).
+  double side_photo_scale = 1;
 };
 
 struct Reconstruction {
@@ -90,8 +93,9 @@ struct Reconstruction {
 };
 
 // Front + side photos -> observation (vision) -> input check -> stereo -> adapted mesh with the
-// front photo as texture. Throws InputRefused when the input check fails (without `force`),
-// std::invalid_argument naming the input when the photos are unusable or the observation
+// front photo as texture. Without a rig, a side photo of another height is first rescaled to the
+// front photo's (report.side_photo_scale). Throws InputRefused when the input check fails (without
+// `force`), std::invalid_argument naming the input when the photos are unusable or the observation
 // cannot be reconstructed (no silhouette / profile, inconsistent heights).
 Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side,
                            const ReconstructOptions& options = {});

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "mesh/mesh_io.h"
 #include "tests/common/run_command.h"
@@ -172,6 +173,20 @@ TEST_F(Reconstruct, CleanPlatesHoldInFrontOfClutter) {
   cv::imwrite((*work_ / "small_plate.png").string(),
               cv::Mat(120, 160, CV_8UC3, cv::Scalar::all(0)));
   expect_clean_error(pair + "--side-background small_plate.png --out bad_out", "side background");
+}
+
+// A side photo of twice the front's resolution (refused before: beyond 1.5x) is rescaled, and
+// report.json says by how much.
+TEST_F(Reconstruct, ASidePhotoOfAnotherSizeIsRescaled) {
+  cv::Mat side = cv::imread((*work_ / "sim" / "side.png").string()), big;
+  cv::resize(side, big, cv::Size(), 2.0, 2.0, cv::INTER_LINEAR);
+  cv::imwrite((*work_ / "big_side.png").string(), big);
+  const Result r =
+      run("reconstruct --front sim/front.png --side big_side.png --out rescaled", *work_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(*work_ / "rescaled" / "report.json"));
+  EXPECT_DOUBLE_EQ(report["side_photo_scale"].get<double>(), 0.5);
+  EXPECT_EQ(cv::imread((*work_ / "rescaled" / "side.png").string()).size(), side.size());
 }
 
 TEST_F(Reconstruct, EvalBadInputs) {
