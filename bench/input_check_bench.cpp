@@ -51,23 +51,23 @@ json points(const std::vector<cv::Point2d>& p) {
 }
 
 json measures_json(const vision::PairMeasures& m) {
-  return {{"front_faces", m.front_faces},
-          {"front_face_px", m.front_face.width},
-          {"front_score", num(m.front_score)},
-          {"front_turn", num(m.front_turn)},
+  return {{"front_faces", m.front.faces},
+          {"front_face_px", m.front.box.width},
+          {"front_score", num(m.front.score)},
+          {"front_turn", num(m.front.turn)},
           {"front_blur", num(m.front_blur)},
           {"front_clipped", num(m.front_clipped)},
           {"front_luma", num(m.front_luma)},
-          {"side_faces", m.side_faces},
-          {"side_score", num(m.side_score)},
-          {"side_turn", num(m.side_turn)},
+          {"side_faces", m.side.faces},
+          {"side_score", num(m.side.score)},
+          {"side_turn", num(m.side.turn)},
           {"side_angle_deg", num(m.side_angle_deg)},
           {"height_residual", num(m.height_residual)},
           {"skin_delta_e", num(m.skin_delta_e)},
           {"side_facing_against", m.side_facing_against},
           {"colour_distance", num(m.colour_distance)},
-          {"side_points", points(m.side_points)},
-          {"front_points", points(m.front_points)}};
+          {"side_points", points(m.side.points)},
+          {"front_points", points(m.front.points)}};
 }
 
 std::vector<std::string> split(const std::string& s) {
@@ -218,10 +218,10 @@ int main(int argc, char** argv) {
         if (!draw_dir.empty()) {
           fs::create_directories(draw_dir);
           cv::Mat shown = side.clone();
-          if (c.measures.side_points.size() == 68) {
-            cv::rectangle(shown, c.measures.side_face, {0, 255, 255}, 2);
+          if (c.measures.side.points.size() == 68) {
+            cv::rectangle(shown, c.measures.side.box, {0, 255, 255}, 2);
             for (size_t j = 0; j < 68; ++j)
-              cv::circle(shown, c.measures.side_points[j], 3,
+              cv::circle(shown, c.measures.side.points[j], 3,
                          j == 30 ? cv::Scalar(0, 0, 255) : cv::Scalar(0, 255, 0), cv::FILLED);
           }
           // The side photo's head blob (what the facing and colour measures see), dimmed outside.

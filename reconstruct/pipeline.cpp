@@ -6,7 +6,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <future>
 #include <stdexcept>
 #include <tuple>
 
@@ -17,7 +16,6 @@
 #include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
 #include "model/head_turn.h"
-#include "vision/face_detect.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
@@ -179,11 +177,8 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
     }
   }
   const auto t0 = Clock::now();
-  std::future<void> detector;  // ready by the time the input check needs it
-  if (options.check_input) detector = std::async(std::launch::async, vision::prepare_face_detector);
   const vision::FaceObservation obs = vision::observe(front, side, options.observe);
   const double observe_ms = ms_since(t0);
-  if (detector.valid()) detector.get();
   std::vector<vision::InputCheck> checks;
   std::vector<std::string> failures;
   const auto t1 = Clock::now();

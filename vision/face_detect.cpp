@@ -10,19 +10,18 @@
 
 namespace orthoface::vision {
 
-constexpr double kMinFaceFraction = 7;  // smallest face found: 1/7 of the shorter side
-
 namespace {
 
-// Decoding dlib's embedded detector takes about 0.3 s: once per process.
+constexpr double kMinFaceFraction = 7;  // smallest face found: 1/7 of the shorter side
+
+// Decoding dlib's embedded detector takes about 0.3 s: once per process (observe() does it
+// first, on the thread that finds the side photo's face while the front is segmented).
 const dlib::frontal_face_detector& decoded_detector() {
   static const dlib::frontal_face_detector decoded = dlib::get_frontal_face_detector();
   return decoded;
 }
 
 }  // namespace
-
-void prepare_face_detector() { decoded_detector(); }
 
 std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score) {
   if (image.empty()) throw std::invalid_argument("face detector: the image is empty");

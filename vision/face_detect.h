@@ -37,8 +37,4 @@ double turn_index(cv::Point2d eye_image_left, cv::Point2d eye_image_right, cv::P
 // as detect_faces.
 FoundFace find_face(const cv::Mat& image);
 
-// Decodes the detector now (about 0.3 s, once per process; thread-safe), e.g. on another thread
-// while the photos are observed, so that detect_faces does not wait for it later.
-void prepare_face_detector();
-
 }  // namespace orthoface::vision

@@ -64,6 +64,9 @@ struct FaceObservation {
   // degrees); with --side-camera auto a clear one decides which way the profile looks. Not
   // written to observation.json.
   FoundFace side_face;
+  // The head blobs vision cut out of each photo (CV_8U 0 / 255, vision::head_mask; empty when
+  // none was found). Not written to observation.json.
+  cv::Mat front_blob, side_blob;
   // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
   // before the consensus replaced any by the filters'; empty when it did not run. The midline
   // features above sit on the centre line; these do not, so the head's turn shows in them.

@@ -249,7 +249,10 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   SideCamera cam = o.side_camera;
   if (cam == SideCamera::Auto && std::abs(obs.side_face.turn) >= kClearSideTurn)
     cam = obs.side_face.turn < 0 ? SideCamera::Left : SideCamera::Right;
-  const SideResult s = observe_side(side, side_seg.get(), cam, min_h, obs.warnings);
+  const SideBlob side_head = side_seg.get();
+  obs.front_blob = head.mask;
+  obs.side_blob = side_head.mask;
+  const SideResult s = observe_side(side, side_head, cam, min_h, obs.warnings);
   if (cam != o.side_camera && s.seen_faces_left != s.faces_left && s.seen_confidence >= 0.3)
     obs.warnings.push_back(
         "side view: the face found in it looks the other way than the silhouette suggests; "
@@ -280,7 +283,9 @@ FaceObservation observe_front(const cv::Mat& front_in, const ObserveOptions& o) 
   const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
   FaceObservation obs;
   obs.front.width = front.cols, obs.front.height = front.rows;
-  observe_front(front, bgf, segment_front(front, bgf), SideProfile{}, 1.0, o, obs);
+  const FrontHead head = segment_front(front, bgf);
+  obs.front_blob = head.mask;
+  observe_front(front, bgf, head, SideProfile{}, 1.0, o, obs);
   return obs;
 }
 

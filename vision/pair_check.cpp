@@ -11,7 +11,6 @@
 
 #include "vision/face_detect.h"
 #include "vision/face_landmarks68.h"
-#include "vision/foreground.h"
 #include "vision/image_prep.h"
 
 namespace orthoface::vision {
@@ -145,12 +144,12 @@ double skin_delta_e(const cv::Mat& front, const cv::Mat& side, const FaceObserva
   return best;
 }
 
-// CIE a* x b* histogram (normalised) of the subject's blob (vision::head_mask) above
-// `bottom_row`: hair, skin and clothes, without the lightness the two views are lit with
-// differently. Empty when there is no blob.
-cv::Mat subject_histogram(const cv::Mat& bgr, double bottom_row) {
-  cv::Mat mask = head_mask(foreground_probability(bgr, {}));
-  if (mask.empty()) return {};
+// CIE a* x b* histogram (normalised) of the subject's blob (observation.front_blob /
+// side_blob) above `bottom_row`: hair, skin and clothes, without the lightness the two views are
+// lit with differently. Empty when there is no blob.
+cv::Mat subject_histogram(const cv::Mat& bgr, const cv::Mat& blob, double bottom_row) {
+  if (blob.size() != bgr.size()) return {};
+  cv::Mat mask = blob.clone();
   if (bottom_row < mask.rows) mask.rowRange(std::max(0, int(bottom_row)), mask.rows).setTo(0);
   if (cv::countNonZero(mask) == 0) return {};
   cv::Mat lab, hist;
@@ -164,15 +163,16 @@ cv::Mat subject_histogram(const cv::Mat& bgr, double bottom_row) {
 }
 
 // The subject's colours down to the chin plus 1.5 nose-bridge-to-chin heights (neck and
-// collar) in both photos; NaN without the chin and nose bridge in both.
+// collar) in both photos; NaN without the chin and nose bridge in both, or without the blobs.
 double colour_distance(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
   const Feature2d* fc = find(obs.front_trained, "chin_bottom");
   const Feature2d* fn = find(obs.front_trained, "nose_bridge");
   const Feature2d* sc = find(obs.side.features, "chin_bottom");
   const Feature2d* sn = find(obs.side.features, "nose_bridge");
   if (!fc || !fn || !sc || !sn) return PairMeasures::kNaN;
-  const cv::Mat hf = subject_histogram(front, fc->px.y + 1.5 * (fc->px.y - fn->px.y));
-  const cv::Mat hs = subject_histogram(side, sc->px.y + 1.5 * (sc->px.y - sn->px.y));
+  const cv::Mat hf =
+      subject_histogram(front, obs.front_blob, fc->px.y + 1.5 * (fc->px.y - fn->px.y));
+  const cv::Mat hs = subject_histogram(side, obs.side_blob, sc->px.y + 1.5 * (sc->px.y - sn->px.y));
   if (hf.empty() || hs.empty()) return PairMeasures::kNaN;
   return cv::compareHist(hf, hs, cv::HISTCMP_BHATTACHARYYA);
 }
@@ -227,26 +227,12 @@ PairMeasures measure_pair(const cv::Mat& front_in, const cv::Mat& side_in,
       side.cols != obs.side.width || side.rows != obs.side.height)
     throw std::invalid_argument("input check: the photos are not the ones observed");
   PairMeasures m;
-  const FoundFace f = find_face(front);
-  m.front_faces = f.faces;
-  if (f.faces > 0) {
-    m.front_face = f.box;
-    m.front_score = f.score;
-    m.front_points = f.points;
-    m.front_turn = f.turn;
-    measure_face_image(front, f.box, m);
-  }
-  const FoundFace& s = obs.side_face;
-  m.side_faces = s.faces;
-  if (s.faces > 0) {
-    m.side_score = s.score;
-    m.side_face = s.box;
-    m.side_points = s.points;
-    m.side_turn = s.turn;
-    if (known(m.side_turn)) {
-      const double front_deg = known(m.front_turn) ? std::atan(m.front_turn / kTurnPerTan) : 0.0;
-      m.side_angle_deg = std::abs(std::atan(m.side_turn / kTurnPerTan) - front_deg) * 180.0 / M_PI;
-    }
+  m.front = find_face(front);
+  if (m.front.faces > 0) measure_face_image(front, m.front.box, m);
+  m.side = obs.side_face;
+  if (m.side.faces > 0 && known(m.side.turn)) {
+    const double front_rad = known(m.front.turn) ? std::atan(m.front.turn / kTurnPerTan) : 0.0;
+    m.side_angle_deg = std::abs(std::atan(m.side.turn / kTurnPerTan) - front_rad) * 180.0 / M_PI;
   }
   m.height_residual = height_residual(obs);
   m.skin_delta_e = skin_delta_e(front, side, obs);
@@ -254,7 +240,7 @@ PairMeasures measure_pair(const cv::Mat& front_in, const cv::Mat& side_in,
   // A face found in the side photo whose nose points the way --side-camera says (turn index < 0:
   // toward the image left) outvotes vision's silhouette cues (hair as dark as the background
   // leaves them a skin-only blob to judge).
-  const bool face_agrees = known(m.side_turn) && (m.side_turn < 0) == obs.side_faces_left;
+  const bool face_agrees = known(m.side.turn) && (m.side.turn < 0) == obs.side_faces_left;
   if (obs.side_camera_given && obs.side_seen_faces_left != obs.side_faces_left && !face_agrees)
     m.side_facing_against = obs.side_seen_confidence;
   return m;
@@ -283,28 +269,28 @@ PairCheck check_pair(const PairMeasures& m, const PairCheckLimits& lim) {
   PairCheck out;
   out.measures = m;
   auto& c = out.checks;
-  const bool front_sure = m.front_faces > 0 && m.front_score >= lim.sure_face_score;
-  const bool side_sure = m.side_faces > 0 && m.side_score >= lim.sure_face_score;
+  const bool front_sure = m.front.faces > 0 && m.front.score >= lim.sure_face_score;
+  const bool side_sure = m.side.faces > 0 && m.side.score >= lim.sure_face_score;
   const bool side_frontal =
-      side_sure && known(m.side_turn) && std::abs(m.side_turn) <= lim.max_front_turn;
+      side_sure && known(m.side.turn) && std::abs(m.side.turn) <= lim.max_front_turn;
   const bool front_frontal =
-      front_sure && !(known(m.front_turn) && std::abs(m.front_turn) > lim.max_front_turn);
-  c.push_back(make("swapped", !(side_frontal && !front_frontal), m.side_turn, lim.max_front_turn,
+      front_sure && !(known(m.front.turn) && std::abs(m.front.turn) > lim.max_front_turn);
+  c.push_back(make("swapped", !(side_frontal && !front_frontal), m.side.turn, lim.max_front_turn,
                    "the front photo shows no frontal face and the side photo does: front and "
                    "side are swapped"));
   c.push_back(make(
-      "front_face", m.front_faces == 1 && front_sure, m.front_faces, 1,
-      m.front_faces == 0 ? "no face found in the front photo"
-      : m.front_faces > 1
-          ? std::to_string(m.front_faces) + " faces in the front photo; it must show one person"
+      "front_face", m.front.faces == 1 && front_sure, m.front.faces, 1,
+      m.front.faces == 0 ? "no face found in the front photo"
+      : m.front.faces > 1
+          ? std::to_string(m.front.faces) + " faces in the front photo; it must show one person"
           : fmt("the front photo's face is not clearly a face seen from the front "
                 "(detector score %.2f, limit %.2f)",
-                m.front_score, lim.sure_face_score)));
-  const bool face = m.front_faces > 0;
-  c.push_back(make("face_size", !face || m.front_face.width >= lim.min_face_px, m.front_face.width,
+                m.front.score, lim.sure_face_score)));
+  const bool face = m.front.faces > 0;
+  c.push_back(make("face_size", !face || m.front.box.width >= lim.min_face_px, m.front.box.width,
                    lim.min_face_px,
                    fmt("the face in the front photo is %.0f px wide; at least %.0f px are needed",
-                       m.front_face.width, lim.min_face_px)));
+                       m.front.box.width, lim.min_face_px)));
   c.push_back(at_most("sharpness", m.front_blur, lim.max_blur,
                       fmt("the front photo's face is blurred (blur index %.2f, limit %.2f)",
                           m.front_blur, lim.max_blur)));
@@ -319,11 +305,11 @@ PairCheck check_pair(const PairMeasures& m, const PairCheckLimits& lim) {
                                  "limit %.0f)",
                                  m.front_luma, lim.min_luma)));
   c.push_back(make("front_frontal",
-                   !known(m.front_turn) || std::abs(m.front_turn) <= lim.max_front_turn,
-                   m.front_turn, lim.max_front_turn,
+                   !known(m.front.turn) || std::abs(m.front.turn) <= lim.max_front_turn,
+                   m.front.turn, lim.max_front_turn,
                    fmt("the head is turned in the front photo (turn index %.2f, about %.0f "
                        "degrees; limit %.2f)",
-                       m.front_turn, std::atan(std::abs(m.front_turn) / kTurnPerTan) * 180 / M_PI,
+                       m.front.turn, std::atan(std::abs(m.front.turn) / kTurnPerTan) * 180 / M_PI,
                        lim.max_front_turn)));
   const bool side_ok =
       !side_sure || !known(m.side_angle_deg) || m.side_angle_deg >= lim.min_side_angle_deg;

@@ -18,26 +18,16 @@ namespace orthoface::vision {
 // What the checks look at. NaN where it could not be measured.
 struct PairMeasures {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  int front_faces = 0;        // faces in the front photo (dlib HOG, score >= 0) at least half as
-                              // wide as the best one
-  cv::Rect2d front_face;      // the best-scoring one
-  double front_score = kNaN;  // its detector score
-  double front_turn = kNaN;   // the front face's turn index (turn_index) from front_points
-  std::vector<cv::Point2d> front_points;  // the trained network's 68 points on the front face
+  FoundFace front;              // the front photo's face (vision::find_face)
   double front_blur = kNaN;     // no-reference blur of the face (blur_index), 0 sharp .. 1 flat
   double front_clipped = kNaN;  // share of the face's pixels at luminance >= 250
   double front_luma = kNaN;     // mean luminance of the face, 0..255
-  // The side photo's face: observation.side_face.
-  int side_faces = 0;        // faces in the side photo (as front_faces)
-  double side_score = kNaN;  // the widest one's score
-  double side_turn = kNaN;   // its turn index
-  // The angle between the two photos' views of the head, degrees: |atan(side_turn / 0.85) -
-  // atan(front_turn / 0.85)| (90 for a front and a side photo, 45 for a 45-degree photo as the
+  FoundFace side;               // the side photo's face: observation.side_face
+  // The angle between the two photos' views of the head, degrees: |atan(side.turn / 0.85) -
+  // atan(front.turn / 0.85)| (90 for a front and a side photo, 45 for a 45-degree photo as the
   // side); NaN without a face in the side photo. Below about 60 degrees the network places a
   // profile's hidden eye badly and this underestimates: only trusted for sure faces.
   double side_angle_deg = kNaN;
-  cv::Rect2d side_face;                  // the side photo's best face box (empty without one)
-  std::vector<cv::Point2d> side_points;  // the trained network's 68 points on it (or none)
   // Midline heights (nose bridge, nose tip, subnasale, lips, chin, chin bottom) of the front's
   // trained points against the side profile's, after the best scale and offset with the worst
   // point left out: RMS residual over the front's nose-bridge-to-chin height.
@@ -59,14 +49,14 @@ struct PairMeasures {
 double blur_index(const cv::Mat& grey);
 
 // Measures a pair: `front` / `side` the photos vision observed, `obs` its observation (by
-// observe(): the side photo's face comes from it). Throws std::invalid_argument on empty photos or
-// an observation of other sizes.
+// observe(): the side photo's face and both head blobs come from it). Throws std::invalid_argument
+// on empty photos or an observation of other sizes.
 PairMeasures measure_pair(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs);
 
 // The limits (docs/input_check.md gives the figures behind each).
 struct PairCheckLimits {
   double sure_face_score = 0.6;       // a face the detector is sure of (profiles score lower)
-  double max_front_turn = 0.6;        // |front_turn|: about 35 degrees
+  double max_front_turn = 0.6;        // |front.turn|: about 35 degrees
   double min_side_angle_deg = 62;     // side_angle_deg of a side photo with a sure face
   double min_face_px = 80;            // front face box width, photo pixels
   double max_blur = 0.65;             // front_blur

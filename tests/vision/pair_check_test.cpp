@@ -131,8 +131,8 @@ TEST_F(SimPair, ARightPairPassesEveryCheck) {
   const PairCheck c = check(cap_->front, cap_->side);
   EXPECT_TRUE(c.passed()) << c.first_failure();
   EXPECT_EQ(c.checks.size(), 11u);
-  EXPECT_EQ(c.measures.front_faces, 1);
-  EXPECT_LT(std::abs(c.measures.front_turn), 0.1);  // the sim head faces the front camera
+  EXPECT_EQ(c.measures.front.faces, 1);
+  EXPECT_LT(std::abs(c.measures.front.turn), 0.1);  // the sim head faces the front camera
   EXPECT_TRUE(c.first_failure().empty());
 }
 
@@ -171,10 +171,10 @@ TEST_F(SimPair, PhotosOtherThanTheObservedOnesThrow) {
 // Measures of a right pair, each check's rule then tried on one changed measure.
 PairMeasures good_measures() {
   PairMeasures m;
-  m.front_faces = 1;
-  m.front_face = {100, 100, 200, 200};
-  m.front_score = 1.5;
-  m.front_turn = 0.1;
+  m.front.faces = 1;
+  m.front.box = {100, 100, 200, 200};
+  m.front.score = 1.5;
+  m.front.turn = 0.1;
   m.front_blur = 0.5;
   m.front_clipped = 0.0;
   m.front_luma = 150;
@@ -194,14 +194,14 @@ TEST(CheckPair, EachRuleRefusesItsOwnCase) {
     const std::string f = failed(m);
     return f.substr(0, f.find(':'));
   };
-  EXPECT_EQ(with([](PairMeasures& m) { m.front_faces = 0; }), "front_face");
-  EXPECT_EQ(with([](PairMeasures& m) { m.front_faces = 2; }), "front_face");
-  EXPECT_EQ(with([](PairMeasures& m) { m.front_score = 0.3; }), "front_face");
-  EXPECT_EQ(with([](PairMeasures& m) { m.front_face.width = 60; }), "face_size");
+  EXPECT_EQ(with([](PairMeasures& m) { m.front.faces = 0; }), "front_face");
+  EXPECT_EQ(with([](PairMeasures& m) { m.front.faces = 2; }), "front_face");
+  EXPECT_EQ(with([](PairMeasures& m) { m.front.score = 0.3; }), "front_face");
+  EXPECT_EQ(with([](PairMeasures& m) { m.front.box.width = 60; }), "face_size");
   EXPECT_EQ(with([](PairMeasures& m) { m.front_blur = 0.8; }), "sharpness");
   EXPECT_EQ(with([](PairMeasures& m) { m.front_clipped = 0.4; }), "exposure");
   EXPECT_EQ(with([](PairMeasures& m) { m.front_luma = 20; }), "exposure");
-  EXPECT_EQ(with([](PairMeasures& m) { m.front_turn = -0.7; }), "front_frontal");
+  EXPECT_EQ(with([](PairMeasures& m) { m.front.turn = -0.7; }), "front_frontal");
   EXPECT_EQ(with([](PairMeasures& m) { m.side_facing_against = 0.9; }), "side_camera");
   EXPECT_EQ(with([](PairMeasures& m) { m.side_facing_against = 0.4; }), "");
   EXPECT_EQ(with([](PairMeasures& m) { m.height_residual = 0.2; }), "same_person_heights");
@@ -209,24 +209,24 @@ TEST(CheckPair, EachRuleRefusesItsOwnCase) {
   EXPECT_EQ(with([](PairMeasures& m) { m.colour_distance = 0.9; }), "same_person_colours");
   // A sure face in the side photo seen 45 degrees from the front's: not a profile.
   EXPECT_EQ(with([](PairMeasures& m) {
-              m.side_faces = 1, m.side_score = 1.0, m.side_turn = 0.8, m.side_angle_deg = 45;
+              m.side.faces = 1, m.side.score = 1.0, m.side.turn = 0.8, m.side_angle_deg = 45;
             }),
             "side_profile");
   // The same angle from a face the detector is unsure of (a profile's) is not trusted.
   EXPECT_EQ(with([](PairMeasures& m) {
-              m.side_faces = 1, m.side_score = 0.3, m.side_turn = 0.8, m.side_angle_deg = 45;
+              m.side.faces = 1, m.side.score = 0.3, m.side.turn = 0.8, m.side_angle_deg = 45;
             }),
             "");
   // No sure front face, a frontal one in the side photo: swapped, named before the rest.
   EXPECT_EQ(with([](PairMeasures& m) {
-              m.front_score = 0.2, m.side_faces = 1, m.side_score = 1.5, m.side_turn = 0.05;
+              m.front.score = 0.2, m.side.faces = 1, m.side.score = 1.5, m.side.turn = 0.05;
             }),
             "swapped");
 }
 
 TEST(CheckPair, UnmeasuredValuesPass) {
   PairMeasures m = good_measures();
-  m.front_turn = m.front_blur = m.front_clipped = m.front_luma = kNaN;
+  m.front.turn = m.front_blur = m.front_clipped = m.front_luma = kNaN;
   m.height_residual = m.skin_delta_e = m.colour_distance = kNaN;
   EXPECT_TRUE(check_pair(m).passed()) << check_pair(m).first_failure();
 }
