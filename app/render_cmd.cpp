@@ -46,7 +46,10 @@ Command render_command() {
            {"blend", true,
             "MODE  view (default: the photo nearer the new view and better facing), "
             "pick (the photo the surface faces more, seed 004) or weighted"},
-           {"background", true, "COLOR  black, white, grey, #RRGGBB, R,G,B or transparent (PNG)"},
+           {"background", true,
+            "photo (default: the front photo's own scene, the head removed: its clean plate "
+            "when reconstruct had --front-background, else inpainted), black, white, grey, "
+            "#RRGGBB, R,G,B or transparent (PNG)"},
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
            {"no-float", false,
@@ -58,6 +61,9 @@ Command render_command() {
             "as the mirror image of the opposite view), texture (the side photo mirrored, "
             "blended with the front photo) or front (the front photo alone; also the default's "
             "fallback without landmarks.json)"},
+           {"head", true,
+            "EXTENT  whole (default: the head, hair, ears and neck from both photos' "
+            "silhouettes around the face) or face (the face mesh alone)"},
            {"export", true,
             "FILE  also write the mesh with the inherited texture: .obj (+ .mtl "
             ".png), .glb (texture embedded) or .ply (vertex colours)"},
@@ -87,13 +93,10 @@ void write_image(const cv::Mat& image, const fs::path& path) {
   io::write_image_atomically(path.string(), image);
 }
 
-// The view camera (capture::view_camera) with the front camera's model rescaled to the output
-// size.
-capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int width, int height,
-                                        double yaw_deg, double pitch_deg) {
+// The front camera rescaled to the output size (the framing of render::fitted).
+capture::CameraModel scaled_front(const capture::RigCalibration& rig, int width, int height) {
   const capture::CameraModel& front = rig.front;
-  capture::RigCalibration scaled = rig;
-  capture::CameraModel& k = scaled.front;
+  capture::CameraModel k = front;
   const double sx = double(width) / front.width, sy = double(height) / front.height;
   const double s = std::min(sx, sy);
   k.width = width;
@@ -102,7 +105,7 @@ capture::CameraModel scaled_view_camera(const capture::RigCalibration& rig, int 
   k.fy = front.fy * s;
   k.cx = width / 2.0 + (front.cx - front.width / 2.0) * s;
   k.cy = height / 2.0 + (front.cy - front.height / 2.0) * s;
-  return capture::view_camera(scaled, yaw_deg, pitch_deg);
+  return k;
 }
 
 cv::Mat with_background(const render::RenderResult& r, bool transparent) {
@@ -179,9 +182,9 @@ int run_render(int argc, char** argv) {
     throw std::invalid_argument(std::string("--blend: ") + e.what());
   }
   o.equalize = !a.has("no-equalize");
-  const std::string bg = a.get("background", "black");
-  const bool transparent = bg == "transparent";
-  if (!transparent) o.background = parse_color(bg);
+  const std::string bg = a.get("background", "photo");
+  const bool transparent = bg == "transparent", photo_bg = bg == "photo";
+  if (!transparent && !photo_bg) o.background = parse_color(bg);
   const fs::path out = a.get("o");
   const std::string ext = lower_extension(out);
   if (view_wanted) {
@@ -204,7 +207,13 @@ int run_render(int argc, char** argv) {
   if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
   if (!view_wanted) return 0;
   const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
-  const auto synth = reconstruct::view_synthesizer(f);
+  const std::string head = a.get("head", "whole");
+  if (head != "whole" && head != "face")
+    throw std::invalid_argument("--head: expected whole or face, not '" + head + "'");
+  const reconstruct::ViewModel model = reconstruct::view_model(
+      f, head == "face" ? reconstruct::HeadExtent::Face : reconstruct::HeadExtent::Whole);
+  const auto synth = reconstruct::view_synthesizer(f, model);
+  const capture::CameraModel base = scaled_front(f.photo_rig, w, h);
   if (o.unseen != render::UnseenSide::Front && !synth->mirror_plane()) {
     if (a.has("unseen"))
       throw std::invalid_argument("--unseen " + a.get("unseen") + ": " + a.positional[0] +
@@ -212,9 +221,14 @@ int run_render(int argc, char** argv) {
     o.unseen = render::UnseenSide::Front;
   }
   o.float_textures = !a.has("no-float");
+  reconstruct::ViewScene scene;  // --background photo: the front photo's frame without the head
+  if (photo_bg) scene = reconstruct::view_scene(f, *synth).fitted(w, h);
+  auto finished = [&](const render::RenderResult& view) {
+    return photo_bg ? scene.composite(view) : with_background(view, transparent);
+  };
   if (!turntable) {
-    const auto r = synth->render(scaled_view_camera(f.photo_rig, w, h, yaw, pitch), o);
-    write_image(with_background(r.view, transparent), out);
+    const auto r = synth->render(model.camera(base, yaw, pitch), o);
+    write_image(finished(r.view), out);
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s, unseen side: %s)\n",
                 out.string().c_str(), w, h, yaw, pitch, render::blend_name(o.blend),
                 render::unseen_side_name(o.unseen));
@@ -223,12 +237,14 @@ int run_render(int argc, char** argv) {
   std::vector<render::Tile> tiles;
   for (int i = 0; i < turntable; ++i) {
     const double y = -90.0 + 180.0 * i / (turntable - 1);
-    const auto r = synth->render(scaled_view_camera(f.photo_rig, w, h, y, pitch), o);
+    const auto r = synth->render(model.camera(base, y, pitch), o);
     char name[64];
     std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
     const fs::path view = out.parent_path() / (out.stem().string() + name + ext);
-    write_image(with_background(r.view, transparent), view);
-    tiles.push_back({r.view.image, "yaw " + std::to_string(int(std::lround(y)))});
+    const cv::Mat shown = finished(r.view);
+    write_image(shown, view);
+    tiles.push_back({shown.channels() == 3 ? shown : r.view.image,
+                     "yaw " + std::to_string(int(std::lround(y)))});
   }
   render::ContactSheetOptions so;
   so.columns = std::min(turntable, 6);

@@ -15,7 +15,8 @@
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
-// [--head-turn MIN_DEG] JSON on stdout, Markdown on
+// [--head-turn MIN_DEG] [--head face|whole (default)] [--background photo (default: the views
+// composited into the front photo's scene, the head removed) | black]. JSON on stdout, Markdown on
 // stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real +-45, dlib's
 // points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
@@ -100,6 +101,8 @@ struct Options {
   bool float_textures = render::SynthesisOptions{}.float_textures;
   render::UnseenSide unseen = render::SynthesisOptions{}.unseen;
   double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
+  reconstruct::HeadExtent head = reconstruct::HeadExtent::Whole;
+  bool composite = true;  // views over the front photo's scene (else on black)
 };
 
 int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
@@ -152,7 +155,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
       ++reconstructed;
       const capture::RigCalibration& rig = rec.photo_rig;
-      const auto synth = reconstruct::view_synthesizer(rec);
+      const reconstruct::ViewModel model = reconstruct::view_model(rec, opt.head);
+      const auto synth = reconstruct::view_synthesizer(rec, model);
       render::SynthesisOptions so;
       so.float_textures = opt.float_textures;
       so.blend = opt.blend;
@@ -161,7 +165,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       // The photographed side: the yaw sign that turns the view toward the side camera.
       const double near_sign = capture::photographed_side_sign(rig);
       auto view = [&](double yaw_deg) {
-        return synth->render(capture::view_camera(rec.rig, yaw_deg, 0), so);
+        return synth->render(model.camera(rec.rig.front, yaw_deg, 0), so);
       };
       r["photographed_side_yaw_sign"] = near_sign;
       r["head_yaw_deg"] = rec.report.head_yaw_deg;
@@ -194,6 +198,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       cv::absdiff(rec.front, v0.view.image, error0);
       error0 = error0 * 4;
       error0.setTo(cv::Scalar(60, 0, 0), v0.view.mask == 0);
+      // The scene the views are composited into: the front photo, the head removed (inpainted).
+      const reconstruct::ViewScene scene = reconstruct::view_scene(rec, *synth);
       psnr_front_min = std::min(psnr_front_min, psnr_front);
       psnr_side_min = std::min(psnr_side_min, psnr_side);
       r["psnr_yaw0_vs_front"] = psnr_front;
@@ -231,12 +237,13 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         for (int side_k = 0; side_k < 2; ++side_k) {  // 0 photographed side, 1 other side
           const double yaw = kYawsDeg[k] * near_sign * (side_k == 0 ? 1 : -1);
           const render::SynthesisResult v = view(yaw);
-          const auto face = judge.largest_face(v.view.image);
+          const cv::Mat image = opt.composite ? scene.composite(v.view) : v.view.image;
+          const auto face = judge.largest_face(image);
           ++views[k];
           if (face) ++found[k], ++n_found;
           r["found"][std::to_string(int(yaw))] = bool(face);
           if (kYawsDeg[k] == 30) continue;
-          cv::Mat img = v.view.image.clone();
+          cv::Mat img = image.clone();
           draw_points(img, face);
           tiles.push_back({img(crop).clone(), cv::format("yaw %+d (%s)", int(yaw),
                                                          side_k == 0 ? "photographed" : "other")});
@@ -339,6 +346,15 @@ int main(int argc, char** argv) {
         opt.unseen = render::parse_unseen_side(argv[++i]);
       } else if (a == "--head-turn" && i + 1 < argc) {
         opt.min_head_turn_deg = std::stod(argv[++i]);
+      } else if (a == "--head" && i + 1 < argc) {
+        const std::string h = argv[++i];
+        if (h != "face" && h != "whole") throw std::invalid_argument("--head: face or whole");
+        opt.head = h == "face" ? reconstruct::HeadExtent::Face : reconstruct::HeadExtent::Whole;
+      } else if (a == "--background" && i + 1 < argc) {
+        const std::string b = argv[++i];
+        if (b != "photo" && b != "black")
+          throw std::invalid_argument("--background: photo or black");
+        opt.composite = b == "photo";
       } else if (a == "--blend" && i + 1 < argc) {
         opt.blend = render::parse_blend(argv[++i]);
       } else {
@@ -349,7 +365,8 @@ int main(int argc, char** argv) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
-             "view|texture|front] [--head-turn MIN_DEG]\n";
+             "view|texture|front] [--head-turn MIN_DEG] [--head face|whole] [--background "
+             "photo|black]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

@@ -180,6 +180,26 @@ CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_
   return camera_at(rig.front, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, distance);
 }
 
+CameraModel turned_camera(const CameraModel& camera, double yaw_deg, double pitch_deg,
+                          const Eigen::Vector3d& pivot) {
+  if (!std::isfinite(yaw_deg) || !std::isfinite(pitch_deg) || !pivot.allFinite())
+    throw std::invalid_argument("turned camera: yaw, pitch and pivot must be finite");
+  // camera_at's turn as a rotation of the head frame: its camera axes at (yaw, pitch) are those
+  // at (0, 0) rotated by r.
+  const Eigen::Matrix3d at0 = camera_at(camera, 0, 0, 1).cam_from_head.linear().transpose();
+  const Eigen::Matrix3d at = camera_at(camera, yaw_deg * M_PI / 180, pitch_deg * M_PI / 180, 1)
+                                 .cam_from_head.linear()
+                                 .transpose();
+  const Eigen::Matrix3d r = at * at0.transpose();
+  // head_from_cam' = T(pivot) r T(-pivot) head_from_cam.
+  Eigen::Isometry3d turn = Eigen::Isometry3d::Identity();
+  turn.linear() = r;
+  turn.translation() = pivot - r * pivot;
+  CameraModel c = camera;
+  c.cam_from_head = (turn * camera.cam_from_head.inverse()).inverse();
+  return c;
+}
+
 CameraModel reflected(const CameraModel& camera, const Eigen::Vector4d& plane) {
   if (const std::string why = camera_problem(camera); !why.empty())
     throw std::invalid_argument("reflected camera: " + why);

@@ -68,6 +68,13 @@ CameraModel camera_at(const CameraModel& intrinsics, double yaw_rad, double pitc
 // std::invalid_argument for a non-finite yaw or pitch.
 CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_deg);
 
+// `camera` (any pose) seeing the head turned about `pivot` (head frame, mm): the camera moved
+// around the pivot as camera_at moves a camera around the origin (yaw > 0 toward head +x, pitch
+// > 0 from above; degrees), so yaw = pitch = 0 gives `camera` itself and a head turning about
+// its neck stays over the body. Throws std::invalid_argument for a non-finite yaw, pitch or pivot.
+CameraModel turned_camera(const CameraModel& camera, double yaw_deg, double pitch_deg,
+                          const Eigen::Vector3d& pivot);
+
 // The camera whose image, flipped left to right, is what `camera` sees of the scene's mirror
 // image through the head-frame plane n . p = d (plane = (n, d), |n| = 1): pose F cam M with M the
 // reflection and F = x -> -x in the camera frame (a rotation again), cx' = width - cx and the

@@ -12,6 +12,7 @@
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "mesh/topology.h"
+#include "model/head_hull.h"
 #include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
@@ -113,6 +114,11 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
                      (tmp / "head.obj").string());
     write_png(r.front, tmp / "front.png");
     write_png(r.side, tmp / "side.png");
+    if (!r.front_silhouette.empty() && !r.side_silhouette.empty()) {
+      write_png(r.front_silhouette, tmp / "silhouette_front.png");
+      write_png(r.side_silhouette, tmp / "silhouette_side.png");
+    }
+    if (!r.front_plate.empty()) write_png(r.front_plate, tmp / "background_front.png");
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());
     vision::write_observation(r.observation, (tmp / "observation.json").string());
     write_json(landmarks_json(r), tmp / "landmarks.json");
@@ -152,15 +158,58 @@ Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& op
     r.photo_rig = capture::photo_rig(r.rig, r.observation.side_faces_left);
     r.side_mask = vision::side_photo_mask(r.observation, r.side.size());
   }
+  if (fs::is_regular_file(in / "silhouette_front.png") &&
+      fs::is_regular_file(in / "silhouette_side.png")) {
+    r.front_silhouette = cv::imread((in / "silhouette_front.png").string(), cv::IMREAD_GRAYSCALE);
+    r.side_silhouette = cv::imread((in / "silhouette_side.png").string(), cv::IMREAD_GRAYSCALE);
+    if (r.front_silhouette.size() != r.front.size() || r.side_silhouette.size() != r.side.size())
+      throw std::runtime_error(what +
+                               ": silhouette_front.png / silhouette_side.png are unreadable "
+                               "or not the photos' size");
+  }
+  if (fs::is_regular_file(in / "background_front.png")) {
+    r.front_plate = cv::imread((in / "background_front.png").string(), cv::IMREAD_COLOR);
+    if (r.front_plate.size() != r.front.size())
+      throw std::runtime_error(what +
+                               ": background_front.png is unreadable or not the front "
+                               "photo's size");
+  }
   if (options.landmarks && fs::exists(in / "landmarks.json"))
     r.landmarks = read_landmarks((in / "landmarks.json").string());
   return r;
 }
 
-std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& r) {
+capture::CameraModel ViewModel::camera(const capture::CameraModel& base, double yaw_deg,
+                                       double pitch_deg) const {
+  return capture::turned_camera(base, yaw_deg, pitch_deg, pivot);
+}
+
+ViewModel view_model(const Reconstruction& r, HeadExtent extent) {
+  ViewModel v;
+  v.mesh = r.mesh;
+  v.face_vertices = int(r.mesh.vertices.size());
+  if (extent == HeadExtent::Face || r.front_silhouette.empty() || r.side_silhouette.empty())
+    return v;
+  const model::HeadHull hull =
+      model::head_hull(r.front_silhouette, r.side_silhouette, r.photo_rig, r.mesh);
+  if (hull.mesh.triangles.empty()) return v;
+  v.mesh = model::combined(r.mesh, hull.mesh);
+  if (hull.pivot.allFinite()) v.pivot = hull.pivot;
+  return v;
+}
+
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& r,
+                                                          HeadExtent extent) {
+  return view_synthesizer(r, view_model(r, extent));
+}
+
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& r,
+                                                          const ViewModel& model) {
   if (r.front.empty() || r.side.empty())
     throw std::invalid_argument("view_synthesizer: the reconstruction has no photos");
-  auto synth = std::make_unique<render::ViewSynthesizer>(r.mesh, r.photo_rig, r.front, r.side);
+  auto synth = std::make_unique<render::ViewSynthesizer>(model.mesh, r.photo_rig, r.front, r.side);
+  if (model.face_vertices < int(model.mesh.vertices.size()))  // the head hull follows the face
+    synth->set_face_vertices(model.face_vertices);
   synth->set_photo_masks({}, r.side_mask);
   synth->set_mirror_plane(model::mid_sagittal_plane(r.landmarks));  // nullopt without pairs
   return synth;

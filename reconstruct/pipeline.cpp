@@ -16,6 +16,7 @@
 #include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
 #include "model/head_turn.h"
+#include "vision/head_silhouette.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
@@ -194,6 +195,8 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
   }
   const double check_ms = ms_since(t1);
   Reconstruction r = from_observation(obs, front, side, options);
+  if (options.observe.background_front.size() == front.size())
+    r.front_plate = options.observe.background_front;
   r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});
   if (options.check_input)
     r.report.stage_ms.insert(r.report.stage_ms.begin() + 1, {"input_check", check_ms});
@@ -223,6 +226,14 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   }
   out.photo_rig = capture::photo_rig(out.rig, obs.side_faces_left);
   out.side_mask = vision::side_photo_mask(obs, side.size());
+  if (!front.empty() && !side.empty() && obs.front_blob.size() == front.size() &&
+      obs.side_blob.size() == side.size()) {
+    const vision::Silhouettes s = vision::subject_silhouettes(front, side, obs);
+    out.front_silhouette = s.front;
+    out.side_silhouette = s.side;
+    out.report.stage_ms.push_back({"silhouettes", ms_since(t)});
+    t = Clock::now();
+  }
   model::StereoData data = model::stereo_match(obs, out.rig, options.stereo);
   out.report.stage_ms.push_back({"stereo", ms_since(t)});
   t = Clock::now();

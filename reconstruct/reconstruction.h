@@ -22,7 +22,8 @@
 
 namespace orthoface::render {
 class ViewSynthesizer;
-}
+struct RenderResult;
+}  // namespace orthoface::render
 
 namespace orthoface::reconstruct {
 
@@ -89,6 +90,13 @@ struct Reconstruction {
   cv::Mat front, side;  // the photos used
   cv::Mat side_mask;    // the subject's side of vision's profile (vision::profile_mask); empty
                         // when the observation has no profile for the side photo
+  // The subject's silhouettes (CV_8U 0 / 255, vision's head blobs of the photos used): the whole
+  // head and neck around the face mesh (model::head_hull). Empty when vision found none or the
+  // folder predates them.
+  cv::Mat front_silhouette, side_silhouette;
+  // The front camera's empty scene (a clean plate) when one was given: a composited view's
+  // background where the head is removed. Empty otherwise.
+  cv::Mat front_plate;
   ReconstructionReport report;
 };
 
@@ -107,10 +115,10 @@ Reconstruction from_observation(const vision::FaceObservation& observation, cons
 
 // Writes the reconstruction folder (DESIGN.md): head.obj head.mtl head.png (the textured model:
 // render::inherit_texture, the same texture as `render --export`), front.png,
-// side.png, rig.yaml, landmarks.json, observation.json, report.json. Files are written into a
-// hidden staging folder beside DIR (io::temp_path_for) and moved into DIR only when all
-// succeeded. Throws std::runtime_error naming
-// the file that failed (DIR is then untouched).
+// side.png, rig.yaml, landmarks.json, observation.json, report.json, and when there are any
+// silhouette_front.png / silhouette_side.png and background_front.png (the clean plate). Files are
+// written into a hidden staging folder beside DIR (io::temp_path_for) and moved into DIR only when
+// all succeeded. Throws std::runtime_error naming the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 
 // A reconstruction folder read back: mesh (welded where the atlas split it; no uvs, no texture:
@@ -125,11 +133,51 @@ struct ReadOptions {
 };
 Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& options = {});
 
-// A view synthesizer loaded with the reconstruction: its mesh, both photos where they were
-// taken, the side mask, and the mid-sagittal plane of its landmarks (when they hold left /
-// right pairs) for the side never photographed. Throws std::invalid_argument when the photos are
-// missing.
-std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction);
+// What a view shows of the subject: the face mesh alone (a mask), or the whole head and neck
+// (model::head_hull from the silhouettes around the face mesh; the face alone when the
+// reconstruction has no silhouettes or they hold no head).
+enum class HeadExtent { Face, Whole };
+
+// What a view draws (head frame, mm) for an extent, and where the head turns.
+struct ViewModel {
+  mesh::TriMesh mesh;     // the face mesh, then the head hull when there is one
+  int face_vertices = 0;  // the face mesh's vertices come first
+  // Views turn the head about this point (capture::turned_camera): the neck (model::HeadHull::
+  // pivot), so the turned head stays over the body; the head frame's origin without a hull.
+  Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+  // The camera of a new view at yaw / pitch (degrees, capture::camera_at's convention): `base`
+  // (e.g. the front camera, rescaled to the output) turned about the pivot.
+  capture::CameraModel camera(const capture::CameraModel& base, double yaw_deg,
+                              double pitch_deg) const;
+};
+ViewModel view_model(const Reconstruction& reconstruction, HeadExtent extent);
+
+// A view synthesizer loaded with the reconstruction: the model's mesh (its face vertices marked),
+// both photos where they were taken, the side mask, and the mid-sagittal plane of its landmarks
+// (when they hold left / right pairs) for the side never photographed. Throws
+// std::invalid_argument when the photos are missing.
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction,
+                                                          const ViewModel& model);
+// The same for view_model(reconstruction, extent).
+std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction,
+                                                          HeadExtent extent = HeadExtent::Whole);
+
+// The scene a composited view is drawn into (`render --background photo`): the front photo with
+// the head and neck removed (render::head_removed: the reconstruction's clean plate, else
+// inpainted) above where the neck meets the body, and the rows over which the view's neck fades
+// into the photo's own (the body does not turn with the head).
+struct ViewScene {
+  cv::Mat background;  // 8-bit BGR
+  double fade_from_row = std::numeric_limits<double>::infinity();
+  double fade_to_row = std::numeric_limits<double>::infinity();
+  // `view` (of the scene's size and framing) drawn into the scene.
+  cv::Mat composite(const render::RenderResult& view) const;
+  // The scene scaled into a width x height frame as render::fitted does.
+  ViewScene fitted(int width, int height) const;
+};
+// The scene of the front photo's own camera for `synth` (loaded with this reconstruction).
+// Throws std::invalid_argument when the reconstruction has no front photo.
+ViewScene view_scene(const Reconstruction& reconstruction, render::ViewSynthesizer& synth);
 
 // The named landmarks of a landmarks.json that write_reconstruction wrote (head frame, mm).
 // Throws std::runtime_error naming the file when it cannot be read or is malformed.

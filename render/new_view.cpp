@@ -163,7 +163,8 @@ struct ViewSynthesizer::Impl {
   GLuint depth_prog = 0, equalize_prog = 0;
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
-  GLuint seen_vbo = 0;  // per-vertex visibility in each source (attribute 4)
+  GLuint seen_vbo = 0;     // per-vertex visibility in each source, face or not (attribute 4)
+  int face_vertices = -1;  // set_face_vertices (-1: all)
   std::vector<Eigen::Vector3d> vertices, normals;
   std::vector<std::array<int, 3>> triangles;
   // The element buffer in TriangleClass order, `class_count` indices of each, for the options
@@ -218,21 +219,24 @@ struct ViewSynthesizer::Impl {
   std::optional<Eigen::Vector4d> mirror_plane;  // set_mirror_plane
 };
 
-// Per-vertex visibility in each source (the fast path's occlusion test), attribute 4.
+// Per-vertex visibility in each source (the fast path's occlusion test) and whether the vertex
+// is the face's (set_face_vertices), attribute 4.
 void ViewSynthesizer::Impl::upload_seen() {
-  std::vector<float> seen(vertices.size() * 2);
-  for (size_t v = 0; v < vertices.size(); ++v)
+  std::vector<float> seen(vertices.size() * 3);
+  for (size_t v = 0; v < vertices.size(); ++v) {
     for (int i = 0; i < 2; ++i) {
       const double cosine = detail::facing(cam(i), vertices[v], normals[v]);
-      seen[2 * v + i] = detail::source_sees(cam(i), src[i].depth, vertices[v], cosine, 1.0);
+      seen[3 * v + i] = detail::source_sees(cam(i), src[i].depth, vertices[v], cosine, 1.0);
     }
+    seen[3 * v + 2] = face_vertices < 0 || v < size_t(face_vertices) ? 1.0f : 0.0f;
+  }
   glBindVertexArray(mesh.vao);
   if (!seen_vbo) glGenBuffers(1, &seen_vbo);
   glBindBuffer(GL_ARRAY_BUFFER, seen_vbo);
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(seen.size() * sizeof(float)), seen.data(),
                GL_STATIC_DRAW);
   glEnableVertexAttribArray(4);
-  glVertexAttribPointer(4, 2, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glBindVertexArray(0);
 }
 
@@ -378,6 +382,7 @@ void ViewSynthesizer::set_mesh(const mesh::TriMesh& mesh) {
   impl_->mesh.release();
   impl_->mesh = gl::upload_mesh(mesh, false);
   impl_->vertices = mesh.vertices;
+  impl_->face_vertices = -1;
   impl_->triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   impl_->ordered_for.reset();  // mesh order
   impl_->facts_for.reset();
@@ -390,6 +395,16 @@ void ViewSynthesizer::set_mesh(const mesh::TriMesh& mesh) {
   for (GLuint p : impl_->view_prog)
     if (p) impl_->source_uniforms(p);
   if (impl_->has_photos) update_colour_match();  // the surface both cameras see has changed
+}
+
+void ViewSynthesizer::set_face_vertices(int count) {
+  if (count < -1 || count > int(impl_->vertices.size()))
+    throw std::invalid_argument("set_face_vertices: " + std::to_string(count) +
+                                " is not -1 or a vertex count of 0.." +
+                                std::to_string(impl_->vertices.size()));
+  impl_->context.make_current();
+  impl_->face_vertices = count;
+  impl_->upload_seen();
 }
 
 void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, ColourUpdate colour) {
@@ -575,7 +590,17 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
     glReadPixels(0, 0, camera.width, camera.height, format, GL_UNSIGNED_BYTE, m.data);
     return m;
   };
-  if (o.source_weights || floating) r.weights = read(1, GL_RGB, CV_8UC3);  // (front, side, unseen)
+  cv::Mat face;  // floating textures: where the face is drawn (weights' alpha)
+  if (floating) {
+    const cv::Mat rgba = read(1, GL_RGBA, CV_8UC4);  // (front, side, unseen, face)
+    r.weights.create(rgba.size(), CV_8UC3);
+    face.create(rgba.size(), CV_8U);
+    cv::Mat outs[2] = {r.weights, face};
+    const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
+    cv::mixChannels(&rgba, 1, outs, 2, from_to, 4);
+  } else if (o.source_weights) {
+    r.weights = read(1, GL_RGB, CV_8UC3);  // (front, side, unseen)
+  }
   if (floating && nf[1] > nf[0]) {
     FloatInputs in;
     for (int i = 0; i < 2; ++i) {
@@ -586,8 +611,12 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
       cv::mixChannels(&bgra, 1, outs, 2, from_to, 4);
     }
+    // Only the face is aligned: elsewhere (the head hull's hair and neck) both photos count as
+    // not seeing it, so no flow is found or applied there and the blend stays as drawn.
+    const cv::Mat is_face = face > 127;
+    for (cv::Mat& a : in.available) a &= is_face;
     in.weights = r.weights;
-    in.mask = r.view.mask;
+    in.mask = r.view.mask & is_face;
     in.fill = m.match.fill;
     auto cv3 = [](const Eigen::Vector3d& d) { return cv::Vec3d(d.x(), d.y(), d.z()); };
     in.alpha = float_alpha(cv3(to_view), cv3(to_front), cv3(to_side));

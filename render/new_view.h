@@ -127,6 +127,12 @@ class ViewSynthesizer {
   // non-finite plane.
   void set_mirror_plane(const std::optional<Eigen::Vector4d>& plane);
   const std::optional<Eigen::Vector4d>& mirror_plane() const;
+  // The mesh's first `count` vertices (and the triangles among them) are the face, modelled in
+  // detail; the rest (e.g. model::head_hull's hair and neck) is drawn and textured alike, but
+  // floating textures align the face alone (the hull's coarse shape would steer the flow).
+  // -1 (the default, and after set_mesh): every vertex is the face. Throws
+  // std::invalid_argument for a count outside -1..vertex count.
+  void set_face_vertices(int count);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // A new mesh for the same rig and photos (re-renders the source depth maps).

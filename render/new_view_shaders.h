@@ -26,7 +26,7 @@ void main() { gl_FragDepth = (v_z - zrange.x) / (zrange.y - zrange.x); })";
 inline const char* kViewVertex = R"(
 layout(location = 0) in vec3 pos;
 layout(location = 1) in vec3 nrm;
-layout(location = 4) in vec2 seen;
+layout(location = 4) in vec3 seen;  // visible in source 0, 1; the face (1) or the hull (0)
 uniform mat4 clip_from_head;
 uniform mat4 src_from_head[2];
 uniform int persp[2];
@@ -37,6 +37,7 @@ out vec3 v_q1;
 out vec2 v_z;
 out vec2 v_cos;
 out vec2 v_seen;
+out float v_face;
 #ifdef MIRROR
 uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
 out vec3 v_q2;        // the side camera's view of the point's mirror image
@@ -56,7 +57,8 @@ void main() {
   float len = length(nrm);
   vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
   v_cos = vec2(facing(0, pos, n), facing(1, pos, n));
-  v_seen = seen;
+  v_seen = seen.xy;
+  v_face = seen.z;
 #ifdef MIRROR
   vec3 pm = (mirror * vec4(pos, 1.0)).xyz;
   vec3 p2 = (src_from_head[1] * vec4(pm, 1.0)).xyz;
@@ -78,6 +80,7 @@ in vec3 v_q1;
 in vec2 v_z;
 in vec2 v_cos;
 in vec2 v_seen;
+in float v_face;
 #ifdef MIRROR
 in vec3 v_q2;
 in vec2 v_mirror;
@@ -149,10 +152,10 @@ void main() {
 #if defined(ONLY_SOURCE) && ONLY_SOURCE == 0
   // Triangles where the blend below is exactly the front photo (ViewSynthesizer sorts them out).
   color = vec4(texture(photo0, uv0 / size[0]).rgb, 1.0);
-  weights = vec4(1.0, 0.0, 0.0, 1.0);
+  weights = vec4(1.0, 0.0, 0.0, v_face);
 #elif defined(ONLY_SOURCE) && ONLY_SOURCE == 1
   color = vec4(texture(photo1, uv1 / size[1]).rgb, 1.0);
-  weights = vec4(0.0, 1.0, 0.0, 1.0);
+  weights = vec4(0.0, 1.0, 0.0, v_face);
 #else
   // Alpha = the photo's subject mask (ViewSynthesizer::set_photo_masks; 1 without one).
   vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);
@@ -186,7 +189,7 @@ void main() {
   float unseen = (1.0 - a0) * (1.0 - a1);
 
   color = vec4(w0 * c0.rgb + w1 * c1.rgb + unseen * fill, 1.0);
-  weights = vec4(w0, w1, unseen, 1.0);
+  weights = vec4(w0, w1, unseen, v_face);
 #ifdef SOURCES_OUT
   source0 = vec4(c0.rgb, step(0.5, a0));
   source1 = vec4(c1.rgb, step(0.5, a1));

@@ -1,0 +1,83 @@
+// The scene composited views are drawn into: the front photo without the head (render/composite.h).
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+#include "reconstruct/reconstruction.h"
+#include "render/composite.h"
+#include "render/new_view.h"
+
+namespace orthoface::reconstruct {
+namespace {
+
+// Row of the chin's lowest point in the front photo: the landmark, else the face mesh's lowest
+// vertex.
+double chin_row(const Reconstruction& r) {
+  for (const char* name : {"chin_bottom", "chin"}) {
+    const auto it = r.landmarks.find(name);
+    if (it != r.landmarks.end()) return capture::project(r.photo_rig.front, it->second).y();
+  }
+  double row = -std::numeric_limits<double>::infinity();
+  for (const auto& v : r.mesh.vertices)
+    row = std::max(row, capture::project(r.photo_rig.front, v).y());
+  return row;
+}
+
+}  // namespace
+
+cv::Mat ViewScene::composite(const render::RenderResult& view) const {
+  render::CompositeOptions o;
+  o.fade_from_row = fade_from_row;
+  o.fade_to_row = fade_to_row;
+  return render::composite(view, background, o);
+}
+
+ViewScene ViewScene::fitted(int width, int height) const {
+  ViewScene s = *this;
+  s.background = render::fitted(background, width, height);
+  const double k = std::min(double(width) / background.cols, double(height) / background.rows);
+  const double top = (height - background.rows * k) / 2;
+  s.fade_from_row = top + fade_from_row * k;
+  s.fade_to_row = top + fade_to_row * k;
+  return s;
+}
+
+ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
+  if (r.front.empty()) throw std::invalid_argument("view_scene: the reconstruction has no photos");
+  render::SynthesisOptions quick;
+  quick.float_textures = false;
+  quick.depth = false;
+  const cv::Mat head = synth.render(r.photo_rig.front, quick).view.mask;
+  ViewScene scene;
+  // The neck: from a third of the way between the chin and the view's lowest row it fades into
+  // the photo's own, which stays below.
+  int bottom = head.rows - 1;
+  while (bottom >= 0 && cv::countNonZero(head.row(bottom)) == 0) --bottom;
+  const double chin = chin_row(r);
+  cv::Mat region = head.clone();
+  if (std::isfinite(chin) && bottom > chin + 4) {
+    scene.fade_from_row = chin + 0.3 * (bottom - chin);
+    scene.fade_to_row = chin + 0.8 * (bottom - chin);
+    // Hair the mesh does not reach goes too (else it shows beside the turned head) down to the
+    // chin; below, the view's own neck, and the photo's neck and body below the fade stay.
+    // Only near the head: shoulders that rise above the chin stay.
+    if (r.front_silhouette.size() == head.size()) {
+      const int reach = std::max(3, int(std::lround(0.05 * head.cols)));
+      cv::Mat near_head;
+      cv::dilate(head, near_head,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * reach + 1, 2 * reach + 1}));
+      cv::Mat hair = r.front_silhouette & near_head;
+      hair.rowRange(std::clamp(int(std::ceil(chin)), 0, head.rows), head.rows).setTo(0);
+      region |= hair;
+    }
+    const int keep = std::clamp(int(std::ceil(scene.fade_from_row)), 0, head.rows);
+    region.rowRange(keep, head.rows).setTo(0);
+  }
+  const int grow = std::max(4, int(std::lround(0.012 * head.cols)));
+  scene.background = render::head_removed(r.front, region, r.front_plate, grow, r.front_silhouette);
+  return scene;
+}
+
+}  // namespace orthoface::reconstruct
