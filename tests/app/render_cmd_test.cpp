@@ -124,6 +124,27 @@ TEST(RenderCommand, UnseenSideUsesTheLandmarksMidPlane) {
   EXPECT_NE(slurp(work / "out.txt").find("unseen side: front"), std::string::npos);
 }
 
+// By default a view is drawn into the front photo's own scene, the head removed from it.
+TEST(RenderCommand, DrawsTheViewIntoThePhotosScene) {
+  const fs::path work = testing::temp_dir("app_render_scene");
+  capture::RigCalibration rig;
+  make_folder(work / "rec", rig);
+  render::Renderer r;
+  render::RenderOptions ro;
+  ro.background = cv::Scalar(40, 120, 200);  // a room's colour behind the head
+  const mesh::TriMesh m = render::uv_ellipsoid({0, 0, 0}, {70, 100, 85}, 32, 64, 512);
+  cv::imwrite((work / "rec" / "front.png").string(), r.render(m, rig.front, ro).image);
+  ASSERT_EQ(run("render rec --yaw 60 -o scene.png", work), 0) << slurp(work / "err.txt");
+  ASSERT_EQ(run("render rec --yaw 60 --background black --head face -o black.png", work), 0)
+      << slurp(work / "err.txt");
+  const cv::Mat scene = cv::imread((work / "scene.png").string());
+  const cv::Mat black = cv::imread((work / "black.png").string());
+  EXPECT_EQ(scene.at<cv::Vec3b>(5, 5), cv::Vec3b(40, 120, 200));
+  EXPECT_EQ(black.at<cv::Vec3b>(5, 5), cv::Vec3b(0, 0, 0));
+  // The head itself is the same view in both.
+  EXPECT_LT(cv::norm(scene.at<cv::Vec3b>(120, 160), black.at<cv::Vec3b>(120, 160)), 3);
+}
+
 TEST(RenderCommand, BadInputGivesOneErrorLine) {
   const fs::path work = testing::temp_dir("app_render_bad");
   capture::RigCalibration rig;
@@ -137,6 +158,7 @@ TEST(RenderCommand, BadInputGivesOneErrorLine) {
         "render rec --yaw 10 --blend sharp -o a.png", "render rec --yaw 10 -o nodir/a.png",
         "render rec --export head.stl", "render rec --yaw abc -o a.png",
         "render rec --yaw 10 --unseen sideways -o a.png",
+        "render rec --yaw 10 --head shoulders -o a.png",
         "render rec --yaw 10 --unseen texture -o a.png"}) {  // no landmarks.json: no mid-plane
     EXPECT_NE(run(args, work), 0) << args;
     const std::string err = slurp(work / "err.txt");

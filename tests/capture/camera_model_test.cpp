@@ -101,6 +101,30 @@ TEST(CameraAt, YawAndPitchMoveTheCameraAsDocumented) {
   EXPECT_LT(project(above, Eigen::Vector3d(0, 50, 0)).y(), 240.0);
 }
 
+TEST(TurnedCamera, TurnsAboutThePivotAndIsTheCameraItselfAtZero) {
+  const CameraModel base = camera_at(perspective_intrinsics(), 0.0, 0.0, 1000.0);
+  const Eigen::Vector3d pivot(5, -60, -80);
+  const CameraModel same = turned_camera(base, 0, 0, pivot);
+  EXPECT_TRUE(same.cam_from_head.isApprox(base.cam_from_head, 1e-12));
+  // The pivot stays where it was in the image; a point in front of it swings toward image left
+  // for yaw > 0 (the camera moves to +x, as camera_at's).
+  const CameraModel turned = turned_camera(base, 40, 0, pivot);
+  EXPECT_LT((project(turned, pivot) - project(base, pivot)).norm(), 1e-9);
+  const Eigen::Vector3d nose(5, -60, 40);
+  EXPECT_LT(project(turned, nose).x(), project(base, nose).x() - 10);
+  // About the origin it is camera_at itself.
+  const CameraModel at = camera_at(perspective_intrinsics(), 40 * M_PI / 180, 0.2, 1000.0);
+  const CameraModel t0 = turned_camera(base, 40, 0.2 * 180 / M_PI, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(t0.cam_from_head.isApprox(at.cam_from_head, 1e-9));
+}
+
+TEST(TurnedCamera, NonFiniteInputIsRefused) {
+  const CameraModel base = perspective_intrinsics();
+  EXPECT_THROW(turned_camera(base, NAN, 0, Eigen::Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(turned_camera(base, 0, INFINITY, Eigen::Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(turned_camera(base, 0, 0, Eigen::Vector3d(0, NAN, 0)), std::invalid_argument);
+}
+
 TEST(CameraAt, StraightDownStaysAProperRotation) {
   const CameraModel c = camera_at(perspective_intrinsics(), 0.2, M_PI / 2, 800.0);
   const Eigen::Matrix3d r = c.cam_from_head.linear();

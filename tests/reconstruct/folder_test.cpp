@@ -1,16 +1,21 @@
 // The reconstruction folder: written by write_reconstruction, read back by read_reconstruction,
 // and a view textured from either in one call (view_synthesizer).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "capture/camera_model.h"
 #include "reconstruct/reconstruction.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
+#include "render/renderer.h"
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "tests/common/test_data.h"
@@ -60,6 +65,64 @@ TEST_F(Folder, ReadsBackWhatWasWritten) {
   for (const auto& [name, p] : rec_->landmarks)
     EXPECT_LT((back.landmarks.at(name) - p).norm(), 1e-3) << name;
   EXPECT_EQ(back.observation.side_faces_left, rec_->observation.side_faces_left);
+  ASSERT_FALSE(rec_->front_silhouette.empty());
+  EXPECT_EQ(cv::countNonZero(back.front_silhouette != rec_->front_silhouette), 0);
+  EXPECT_EQ(cv::countNonZero(back.side_silhouette != rec_->side_silhouette), 0);
+  EXPECT_TRUE(back.front_plate.empty());  // reconstructed without a clean plate
+}
+
+// The whole head turned 30 degrees covers the true head's silhouette; the face mesh alone does
+// not (the truth is the sim head itself, turned about the same pivot).
+TEST_F(Folder, TheWholeHeadCoversTheTrueHeadsSilhouette) {
+  const ViewModel whole = view_model(*rec_, HeadExtent::Whole);
+  const ViewModel face = view_model(*rec_, HeadExtent::Face);
+  ASSERT_GT(whole.mesh.vertices.size(), face.mesh.vertices.size());
+  EXPECT_EQ(whole.face_vertices, int(rec_->mesh.vertices.size()));
+  EXPECT_LT(whole.pivot.z(), rec_->landmarks.at("chin").z() - 30);  // the neck, behind the chin
+  const sim::Head head = sim::make_head(3);
+  auto iou = [&](const ViewModel& m) {
+    const capture::CameraModel camera = m.camera(rec_->rig.front, 30, 0);
+    render::SynthesisOptions o;
+    o.float_textures = false;
+    const cv::Mat view = view_synthesizer(*rec_, m)->render(camera, o).view.mask;
+    cv::Mat truth = render::render_once(head.mesh, camera).mask;
+    // The sim head has no neck below the frame's reach of the hull: compare above the pivot's
+    // row minus the neck's 40 mm.
+    const int bottom = int(capture::project(camera, whole.pivot - Eigen::Vector3d(0, 40, 0)).y());
+    const cv::Rect above(0, 0, truth.cols, std::clamp(bottom, 1, truth.rows));
+    return double(cv::countNonZero(view(above) & truth(above))) /
+           cv::countNonZero(view(above) | truth(above));
+  };
+  const double w = iou(whole), f = iou(face);
+  std::printf("sim subject 3, 30 deg: head-silhouette IoU whole %.3f, face mesh %.3f\n", w, f);
+  EXPECT_GT(w, 0.9);
+  EXPECT_GT(w, f + 0.1);
+}
+
+// The scene of a composited view: the head gone from the front photo, and at yaw 0 the
+// composite gives the front photo back.
+TEST_F(Folder, TheSceneLosesTheHeadAndYawZeroGivesThePhotoBack) {
+  const ViewModel model = view_model(*rec_, HeadExtent::Whole);
+  const auto synth = view_synthesizer(*rec_, model);
+  const ViewScene scene = view_scene(*rec_, *synth);
+  const cv::Mat head = rec_->front_silhouette;
+  cv::Mat diff;
+  cv::absdiff(scene.background, rec_->front, diff);
+  cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
+  EXPECT_GT(cv::mean(diff, head)[0], 20);  // the head is gone
+  ASSERT_TRUE(std::isfinite(scene.fade_from_row));
+  const render::RenderResult zero = synth->render(rec_->photo_rig.front).view;
+  const cv::Mat at_zero = scene.composite(zero);
+  cv::Mat inside;  // the view's own pixels, its feathered edge left out
+  cv::erode(zero.mask, inside, cv::Mat::ones(5, 5, CV_8U));
+  const double head_db = render::psnr(rec_->front, at_zero, inside),
+               frame_db = render::psnr(rec_->front, at_zero, cv::Mat());
+  std::printf("yaw 0 composite vs the front photo: %.1f dB on the head, %.1f dB the frame\n",
+              head_db, frame_db);
+  EXPECT_GT(head_db, 40.0);
+  EXPECT_GT(frame_db, 28.0);  // the ring around the head is the scene's fill
+  const ViewScene half = scene.fitted(scene.background.cols / 2, scene.background.rows / 2);
+  EXPECT_NEAR(half.fade_from_row, scene.fade_from_row / 2, 1);
 }
 
 // The folder on disk and the reconstruction in memory give the same view.
@@ -114,6 +177,14 @@ TEST_F(Folder, BadFoldersNameTheFolderAndTheFile) {
   fs::remove(bad / "landmarks.json");
   std::ofstream(bad / "rig.yaml") << "%YAML:1.0\nnothing: 1\n";
   expect_error("rig.yaml");
+  fs::remove(bad / "rig.yaml");
+  cv::imwrite((bad / "silhouette_front.png").string(), cv::Mat(10, 10, CV_8U, cv::Scalar(255)));
+  cv::imwrite((bad / "silhouette_side.png").string(), cv::Mat(10, 10, CV_8U, cv::Scalar(255)));
+  expect_error("silhouette_front.png");
+  fs::remove(bad / "silhouette_front.png");
+  fs::remove(bad / "silhouette_side.png");
+  cv::imwrite((bad / "background_front.png").string(), cv::Mat(10, 10, CV_8UC3));
+  expect_error("background_front.png");
   fs::remove_all(bad);
   EXPECT_THROW(read_reconstruction((bad / "missing").string()), std::runtime_error);
 }

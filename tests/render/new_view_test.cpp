@@ -77,6 +77,28 @@ TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   EXPECT_THROW(o.check(), std::invalid_argument);
 }
 
+TEST(NewView, FloatingTexturesAlignOnlyTheFaceVertices) {
+  // Photos of one ellipsoid, a deeper one as the mesh: the two photos disagree on it, and
+  // floating textures move them.
+  const Scene s = ellipsoid_scene();
+  const mesh::TriMesh deeper =
+      without_texture(uv_ellipsoid({0, 0, 0}, {70, 100, 100}, 48, 96, 512));
+  ViewSynthesizer synth(deeper, s.rig, s.front, s.side);
+  const CameraModel cam = view(s.rig.front, 40);
+  SynthesisOptions still;
+  still.float_textures = false;
+  const cv::Mat drawn = synth.render(cam, still).view.image;
+  const cv::Mat floated = synth.render(cam).view.image;
+  EXPECT_GT(cv::norm(floated, drawn, cv::NORM_L1), 1000);
+  // No vertex is the face: nothing is aligned, the view stays as drawn.
+  synth.set_face_vertices(0);
+  EXPECT_LT(cv::norm(synth.render(cam).view.image, drawn, cv::NORM_INF), 2);
+  synth.set_face_vertices(-1);
+  EXPECT_EQ(cv::norm(synth.render(cam).view.image, floated, cv::NORM_INF), 0);
+  EXPECT_THROW(synth.set_face_vertices(-2), std::invalid_argument);
+  EXPECT_THROW(synth.set_face_vertices(int(deeper.vertices.size()) + 1), std::invalid_argument);
+}
+
 TEST(NewView, FortyFiveDegreesMatchesTheTrueView) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);

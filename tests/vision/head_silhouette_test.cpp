@@ -1,0 +1,101 @@
+// The subject's silhouette grown from vision's blob into the hair the blob missed.
+#include "vision/head_silhouette.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::vision {
+namespace {
+
+// A photo of a head before a blue curtain: a skin face (the blob vision found) under brown hair
+// (missed), eyes 60 px apart at row 200.
+struct Photo {
+  cv::Mat image, face, hair;
+  explicit Photo(bool side) {
+    image.create(480, 640, CV_8UC3);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0, 6);
+    for (int y = 0; y < image.rows; ++y)
+      for (int x = 0; x < image.cols; ++x)
+        image.at<cv::Vec3b>(y, x) = cv::Vec3b(cv::saturate_cast<uchar>(110 + noise(rng)),
+                                              cv::saturate_cast<uchar>(70 + noise(rng)),
+                                              cv::saturate_cast<uchar>(60 + noise(rng)));
+    face = cv::Mat::zeros(image.size(), CV_8U);
+    hair = cv::Mat::zeros(image.size(), CV_8U);
+    const cv::Point centre = side ? cv::Point(300, 230) : cv::Point(320, 230);
+    cv::ellipse(hair, side ? cv::Point(340, 170) : cv::Point(320, 170), {95, 80}, 0, 0, 360,
+                cv::Scalar(255), cv::FILLED);
+    cv::ellipse(face, centre, {70, 95}, 0, 0, 360, cv::Scalar(255), cv::FILLED);
+    cv::rectangle(face, cv::Rect(centre.x - 40, 300, 80, 180), cv::Scalar(255), cv::FILLED);
+    hair &= ~face;
+    image.setTo(cv::Scalar(40, 60, 100), hair);
+    image.setTo(cv::Scalar(120, 150, 210), face);
+  }
+};
+
+FaceObservation observation() {
+  FaceObservation o;
+  o.front.width = o.side.width = 640;
+  o.front.height = o.side.height = 480;
+  o.front.features["eye_left_center"].px = {350, 200};
+  o.front.features["eye_right_center"].px = {290, 200};
+  o.centre_x_px = 320;
+  o.centre_y_px = 240;
+  o.side.features["nose_tip"].px = {235, 250};
+  o.side_faces_left = true;
+  return o;
+}
+
+double share(const cv::Mat& mask, const cv::Mat& region) {
+  return double(cv::countNonZero(mask & region)) / std::max(1, cv::countNonZero(region));
+}
+
+TEST(SubjectSilhouettes, GrowTheBlobIntoTheHairItMissed) {
+  const Photo front(false), side(true);
+  FaceObservation o = observation();
+  o.front_blob = front.face.clone();
+  o.side_blob = side.face.clone();
+  const Silhouettes s = subject_silhouettes(front.image, side.image, o);
+  EXPECT_GT(share(s.front, front.hair), 0.9);
+  EXPECT_GT(share(s.side, side.hair), 0.9);
+  EXPECT_GT(share(s.front, front.face), 0.98);
+  const cv::Mat background = ~(front.face | front.hair);
+  EXPECT_LT(share(s.front, background), 0.02);
+}
+
+TEST(SubjectSilhouettes, WithoutTheEyesTheBlobsStayAsTheyAre) {
+  const Photo front(false), side(true);
+  FaceObservation o = observation();
+  o.front.features.erase("eye_left_center");
+  o.front_blob = front.face.clone();
+  o.side_blob = side.face.clone();
+  const Silhouettes s = subject_silhouettes(front.image, side.image, o);
+  EXPECT_EQ(cv::countNonZero(s.front != front.face), 0);
+  EXPECT_EQ(cv::countNonZero(s.side != side.face), 0);
+}
+
+TEST(SubjectSilhouettes, BadInputIsRefusedNamingIt) {
+  const Photo front(false), side(true);
+  const FaceObservation o = observation();
+  cv::Mat small;
+  cv::resize(front.image, small, {}, 0.5, 0.5);
+  try {
+    subject_silhouettes(small, side.image, o);
+    FAIL() << "no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("front photo is 320x240, its observation 640x480"),
+              std::string::npos);
+  }
+  cv::Mat grey;
+  cv::cvtColor(side.image, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_THROW(subject_silhouettes(front.image, grey, o), std::invalid_argument);
+  SilhouetteOptions bad;
+  bad.iterations = 0;
+  EXPECT_THROW(subject_silhouettes(front.image, side.image, o, bad), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace orthoface::vision
