@@ -124,10 +124,13 @@ void synth_stage(std::vector<DemoSubject>& subjects, const sim::RigOptions& opti
   for (DemoSubject& s : subjects) {
     if (!s.model) continue;
     const auto synth = reconstruct::view_synthesizer(*s.model);
+    // The whole head drawn into the front photo's scene, as `render` does (the sim's truth
+    // turns about the head frame's origin, so the views do too).
+    const reconstruct::ViewScene scene = reconstruct::view_scene(*s.model, *synth);
     for (size_t i = 0; i < std::size(kViewYawsDeg); ++i) {
       const capture::CameraModel camera =
           sim::true_view_camera(options, kViewYawsDeg[i] * M_PI / 180, 0);
-      s.views.push_back(synth->render(camera, so).view.image);
+      s.views.push_back(scene.composite(synth->render(camera, so).view));
       cv::Mat mask = sim::has_face_landmarks(s.head) ? sim::face_mask(s.head, camera, renderer)
                                                      : s.truth_views[i].mask;
       s.psnr_db.push_back(render::psnr(s.truth_views[i].image, s.views.back(), mask));
