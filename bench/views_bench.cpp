@@ -93,6 +93,10 @@ struct Scores {
   // as shares of the face mask; has_regions false when the head lacks the landmarks.
   double uncovered_region[kNumMeshes][kNumRegions] = {};
   bool has_regions = false;
+  // The whole head as `render` draws it (reconstruct::view_model, view blend) against the true
+  // head down to 30 mm below the chin: silhouette IoU, PSNR and SSIM over the true head; NaN
+  // without a chin landmark.
+  double head_iou[kNumYaws] = {}, head_psnr[kNumYaws] = {}, head_ssim[kNumYaws] = {};
 };
 
 struct SubjectResult {
@@ -150,6 +154,49 @@ std::array<double, kNumRegions> uncovered_by_region(const sim::Head& head, const
       share[region] += 1 / n;
     }
   return share;
+}
+
+// Scores::head_* for reconstruction `r` of `head`.
+// With `picture`: truth, view and error at 45 deg written there.
+void whole_head_scores(const sim::Head& head, const sim::RigOptions& options,
+                       const reconstruct::Reconstruction& r, render::Renderer& renderer, Scores& s,
+                       const std::string& picture) {
+  const auto chin = head.landmarks.find("chin_bottom");
+  const reconstruct::ViewModel whole = reconstruct::view_model(r, reconstruct::HeadExtent::Whole);
+  const auto synth = reconstruct::view_synthesizer(r, whole);
+  for (int y = 0; y < kNumYaws; ++y) {
+    if (chin == head.landmarks.end()) {
+      s.head_iou[y] = s.head_psnr[y] = s.head_ssim[y] = NAN;
+      continue;
+    }
+    const double yaw = kYawsDeg[y] * M_PI / 180;
+    const render::RenderResult truth = sim::true_view(head, options, yaw, 0, renderer);
+    const capture::CameraModel camera = sim::true_view_camera(options, yaw, 0);
+    render::SynthesisOptions so;
+    so.background = options.background_bgr;
+    so.depth = false;
+    const render::RenderResult view = synth->render(camera, so).view;
+    const double bottom = capture::project(camera, chin->second - Eigen::Vector3d(0, 30, 0)).y();
+    cv::Mat head_rows = cv::Mat::zeros(truth.mask.size(), CV_8U);
+    head_rows.rowRange(0, std::clamp(int(bottom), 0, head_rows.rows)).setTo(255);
+    const cv::Mat t = truth.mask & head_rows, v = view.mask & head_rows;
+    s.head_iou[y] = double(cv::countNonZero(t & v)) / std::max(1, cv::countNonZero(t | v));
+    s.head_psnr[y] = render::psnr(truth.image, view.image, t);
+    s.head_ssim[y] = render::ssim(truth.image, view.image, t);
+    if (y == kHeadlineYaw && !picture.empty()) {
+      const cv::Rect box = cv::boundingRect(t | v);
+      render::ContactSheetOptions o;
+      o.columns = 3;
+      render::write_png(
+          render::contact_sheet(
+              {{truth.image(box), "truth yaw 45"},
+               {view.image(box),
+                cv::format("whole head: IoU %.3f, %.1f dB", s.head_iou[y], s.head_psnr[y])},
+               {abs_error_image(truth.image, view.image, t)(box), "|error| x4 over the true head"}},
+              o),
+          picture);
+    }
+  }
 }
 
 // One simulated or scanned subject through the rig, the pipeline and the four meshes.
@@ -215,6 +262,8 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
     }
     synth.set_mesh(m[0]);
   }
+  whole_head_scores(head, options, r, renderer, out.s,
+                    picture.empty() ? "" : picture.substr(0, picture.size() - 4) + "_whole.png");
   if (!picture.empty()) {
     render::ContactSheetOptions o;
     o.columns = 3;  // per mesh: truth, synthesized view, error
@@ -245,6 +294,11 @@ json scores_json(const Scores& s) {
                                                     {"ssim", s.ssim[k][b][y]},
                                                     {"uncovered_share", s.uncovered[k][b][y]},
                                                     {"psnr_covered_db", s.psnr_covered[k][b][y]}});
+  for (int y = 0; y < kNumYaws; ++y)
+    j["whole_head"].push_back({{"yaw_deg", kYawsDeg[y]},
+                               {"iou", s.head_iou[y]},
+                               {"psnr_db", s.head_psnr[y]},
+                               {"ssim", s.head_ssim[y]}});
   if (s.has_regions)
     for (int k = 0; k < kNumMeshes; ++k)
       for (int g = 0; g < kNumRegions; ++g)
@@ -280,6 +334,35 @@ std::string summary_table(const std::vector<SubjectResult>& all, json& summary) 
         }
         md += "\n";
       }
+  return md;
+}
+
+// The whole head, mean (min) over subjects per yaw: silhouette IoU, PSNR, SSIM.
+std::string whole_head_table(const std::vector<SubjectResult>& all, json& summary) {
+  std::string md = "| metric | 15° | 30° | 45° | 60° | 75° |\n|---|---|---|---|---|---|\n";
+  const char* names[] = {"head-silhouette IoU", "PSNR dB (whole head)", "SSIM (whole head)"};
+  for (int metric = 0; metric < 3; ++metric) {
+    md += std::string("| ") + names[metric] + " |";
+    for (int y = 0; y < kNumYaws; ++y) {
+      double sum = 0, lo = 1e300;
+      int n = 0;
+      for (const auto& r : all) {
+        const double v = metric == 0   ? r.s.head_iou[y]
+                         : metric == 1 ? r.s.head_psnr[y]
+                                       : r.s.head_ssim[y];
+        if (!r.ok || !std::isfinite(v)) continue;
+        sum += v, lo = std::min(lo, v), ++n;
+      }
+      if (n == 0) {
+        md += " - |";
+        continue;
+      }
+      md += cv::format(metric == 1 ? " %.1f (%.1f) |" : " %.3f (%.3f) |", sum / n, lo);
+      summary["whole_head"][names[metric]].push_back(
+          {{"yaw_deg", kYawsDeg[y]}, {"mean", sum / n}, {"min", lo}});
+    }
+    md += "\n";
+  }
   return md;
 }
 
@@ -368,6 +451,10 @@ int run_sim(int subjects, const std::string& out_dir) {
   std::string md = "### Simulated subjects, seeds 0.." + std::to_string(subjects - 1) +
                    ", ideal rig 640x480 (mean (min) over subjects)\n\n";
   md += summary_table(all, out["sim"]["summary"]);
+  md +=
+      "\n### The whole head (head, hair, ears, neck to 30 mm below the chin; adapted mesh and "
+      "head hull, view blend; mean (min) over subjects)\n\n" +
+      whole_head_table(all, out["sim"]["summary"]);
   md += "\n### Where the error is, 45°, pick (mean over subjects)\n\n" + coverage_table(all);
   md +=
       "\nUncovered face mask by where it lies on the true head (far = the side turned away "
@@ -403,7 +490,8 @@ int run_sim(int subjects, const std::string& out_dir) {
         continue;
       }
       json unused;
-      md += summary_table({s}, unused) + "\n" + coverage_table({s});
+      md += summary_table({s}, unused) + "\n" + coverage_table({s}) + "\n" +
+            whole_head_table({s}, unused);
     }
   } else {
     md += "\n(Lee Perry-Smith scan not found in " + scan_dir.string() + ": skipped)\n";

@@ -184,7 +184,8 @@ void HullOptions::check() const {
   auto bad = [](const std::string& what) { throw std::invalid_argument("hull options: " + what); };
   if (!(slice_mm >= 0.5 && slice_mm <= 20)) bad("slice_mm must be in [0.5, 20]");
   if (angles < 16 || angles > 1024) bad("angles must be in [16, 1024]");
-  if (!(exponent >= 1 && exponent <= 10)) bad("exponent must be in [1, 10]");
+  if (!(front_exponent >= 1 && front_exponent <= 10)) bad("front_exponent must be in [1, 10]");
+  if (!(back_exponent >= 1 && back_exponent <= 10)) bad("back_exponent must be in [1, 10]");
   if (!(face_inset_mm >= 0 && face_inset_mm <= 50)) bad("face_inset_mm must be in [0, 50]");
   if (!(hollow_mm >= 0 && hollow_mm <= 100)) bad("hollow_mm must be in [0, 100]");
   if (!(hollow_deg >= 0 && hollow_deg <= 90)) bad("hollow_deg must be in [0, 90]");
@@ -255,7 +256,8 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
     const Slice& s = slices[size_t(j)];
     for (int i = 0; i < n; ++i) {
       const double t = 2 * kPi * i / n;
-      double r = superellipse_radius(s.a, s.b, o.exponent, t);
+      double r = superellipse_radius(s.a, s.b,
+                                     std::cos(t) >= 0 ? o.front_exponent : o.back_exponent, t);
       const int col = (i + n / 2) % n;
       if (any_face) {
         const float face_r = radii.at<float>(j, col);

@@ -16,8 +16,10 @@ namespace orthoface::model {
 struct HullOptions {
   double slice_mm = 2;       // vertical spacing of the slices
   int angles = 96;           // points around each slice
-  double exponent = 2;       // a slice is the superellipse |x/a|^n + |z/b|^n = 1 inscribed in the
-                             // silhouettes' box (2 = ellipse)
+  // A slice is the superellipse |x/a|^n + |z/b|^n = 1 inscribed in the silhouettes' box: n =
+  // front_exponent in front of the box's middle (the face's side, round), back_exponent behind
+  // it (the back of a head is squarer than an ellipse).
+  double front_exponent = 2, back_exponent = 2.4;
   double face_inset_mm = 3;  // where the face mesh covers the hull, the hull stays this far
                              // behind the face's nearest hollow (within hollow_mm above and
                              // below, hollow_deg around), so the face is what shows
