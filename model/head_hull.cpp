@@ -270,7 +270,10 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
             const double along = (col - cell.x) * 2 * kPi / n * r;
             const double down = (j - cell.y) * o.slice_mm;
             const double d = std::hypot(along, down);
-            r = std::min(r, label_radius[l] - o.face_inset_mm + o.face_slope * d);
+            // The inset fades over the first 4 mm past the face's edge, so the hull meets the
+            // edge rather than leaving a step behind it.
+            const double inset = o.face_inset_mm * std::max(0.0, 1 - d / 4);
+            r = std::min(r, label_radius[l] - inset + o.face_slope * d);
           }
         }
       }
