@@ -112,7 +112,7 @@ StationHttp::~StationHttp() {
   }
   cv_.notify_all();
   if (acceptor_.joinable()) acceptor_.join();
-  for (auto& t : workers_) t.join();
+  for (auto& w : workers_) w.thread.join();
   ::close(listen_fd_);
 }
 
@@ -126,11 +126,25 @@ void StationHttp::accept_loop() {
     if (::poll(&p, 1, 100) <= 0) continue;
     const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_CLOEXEC);
     if (fd < 0) continue;
-    std::lock_guard<std::mutex> lock(m_);
-    workers_.emplace_back([this, fd] {
-      serve(fd);
-      ::close(fd);
-    });
+    std::vector<std::thread> finished;
+    {
+      std::lock_guard<std::mutex> lock(m_);
+      for (auto it = workers_.begin(); it != workers_.end();)
+        if (it->done->load()) {
+          finished.push_back(std::move(it->thread));
+          it = workers_.erase(it);
+        } else {
+          ++it;
+        }
+      auto done = std::make_shared<std::atomic<bool>>(false);
+      workers_.push_back({std::thread([this, fd, done] {
+                            serve(fd);
+                            ::close(fd);
+                            done->store(true);
+                          }),
+                          done});
+    }
+    for (auto& t : finished) t.join();  // already returned: joins at once
   }
 }
 
@@ -223,6 +237,11 @@ std::vector<unsigned char> StationHttp::jpeg_of(const std::string& name, unsigne
 void StationHttp::set_status(const std::string& json) {
   std::lock_guard<std::mutex> lock(m_);
   status_ = json;
+}
+
+size_t StationHttp::worker_threads() {
+  std::lock_guard<std::mutex> lock(m_);
+  return workers_.size();
 }
 
 std::vector<std::string> StationHttp::take_actions() {

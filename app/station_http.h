@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -14,7 +15,8 @@ namespace orthoface::app {
 
 // The station's tiny HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
 // /NAME.jpg and /NAME.mjpg (multipart stream) for each published image, /status (JSON), and
-// /capture, /refit which queue an action for the station loop. One thread per connection.
+// /capture, /refit which queue an action for the station loop. One thread per connection,
+// joined once it has finished.
 class StationHttp {
  public:
   // Listens on bind_address:port. Throws std::runtime_error naming the port when it is in use or
@@ -30,6 +32,9 @@ class StationHttp {
   void set_status(const std::string& json);
   std::vector<std::string> take_actions();  // "capture" / "refit" requested since the last call
   int port() const { return port_; }
+  // Connection threads held (serving or finished and not yet joined): finished ones are joined
+  // as new connections come, so this stays near the number of open connections.
+  size_t worker_threads();
 
  private:
   void accept_loop();
@@ -52,7 +57,11 @@ class StationHttp {
   std::map<std::string, Slot> images_;
   std::string status_ = "{}";
   std::vector<std::string> actions_;
-  std::vector<std::thread> workers_;
+  struct Worker {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done;
+  };
+  std::vector<Worker> workers_;  // under m_; finished ones joined by accept_loop
   std::thread acceptor_;
 };
 

@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include "app/station_http.h"
 #include "tests/common/test_data.h"
 
 namespace {
@@ -278,6 +279,36 @@ TEST(CaptureCommand, ProductionBinaryThroughFakeV4l2) {
   EXPECT_NE(lacking.output.find("error: camera /dev/video42: no mode of 800x600"),
             std::string::npos)
       << lacking.output;
+}
+
+}  // namespace
+
+namespace {
+
+// Resident memory of this process, kB (/proc/self/status VmRSS).
+long resident_kb() {
+  std::ifstream f("/proc/self/status");
+  for (std::string line; std::getline(f, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  return -1;
+}
+
+// A browser polling the page for an hour makes ~100,000 requests: finished connection threads
+// must not pile up.
+TEST(StationHttp, FinishedConnectionsAreJoined) {
+  orthoface::app::StationHttp http("127.0.0.1", free_port());
+  http.set_status("{\"ok\": true}");
+  for (int i = 0; i < 200; ++i)
+    ASSERT_NE(http_get(http.port(), "/status").find("ok"), std::string::npos);
+  const long before = resident_kb();
+  for (int i = 0; i < 3000; ++i) http_get(http.port(), "/status");
+  std::this_thread::sleep_for(50ms);
+  http_get(http.port(), "/status");  // a new connection joins the finished ones
+  const long grown = resident_kb() - before;
+  std::printf("3000 status requests: %zu connection threads held, resident memory +%ld kB\n",
+              http.worker_threads(), grown);
+  EXPECT_LE(http.worker_threads(), 4u);
+  EXPECT_LT(grown, 8 * 1024);
 }
 
 }  // namespace
