@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 #include <thread>
+#include <tuple>
 
 #include <nlohmann/json.hpp>
 #include <opencv2/highgui.hpp>
@@ -46,7 +47,9 @@ Command station_command() {
       "window|http:PORT|v4l2:/dev/videoN]",
       {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
        {"side", true, "DEV  side camera"},
-       {"yaw", true, "DEG  rotated view yaw, -90..90 (default 30)"},
+       {"yaw", true,
+        "DEG  rotated view yaw, -90..90 (default 30); with --output http: the page's sliders "
+        "and GET /view?yaw=DEG&pitch=DEG change it while running"},
        {"pitch", true, "DEG  rotated view pitch, -60..60 (default 0)"},
        {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
        {"bind", true, "ADDR  http address (default 127.0.0.1)"},
@@ -140,8 +143,10 @@ class Station {
 Station::Station(const Settings& s) : s_(s) {
   sim::register_sim_cameras();
   if (s_.output == "window") require_display("--output window");
-  if (s_.output.rfind("http:", 0) == 0)
+  if (s_.output.rfind("http:", 0) == 0) {
     http_ = std::make_unique<StationHttp>(s_.bind, to_int("output", s_.output.substr(5), 1, 65535));
+    http_->set_view(s_.yaw_deg, s_.pitch_deg);
+  }
   if (s_.output.rfind("v4l2:", 0) == 0)
     v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
   prepare_output_dir(s_.out);
@@ -211,6 +216,7 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
     // much for a live frame on two cores; the offline render and batch use them.
     image_only.float_textures = false;
+    if (http_) std::tie(s_.yaw_deg, s_.pitch_deg) = http_->view();  // the page's sliders
     view_ = synth_->render(capture::view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only)
                 .view.image;
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
@@ -302,6 +308,8 @@ void Station::write_summary() {
       {"retexture_every", s_.retexture_every},
       {"set_photos_ms_median", percentile(retexture_ms_, 0.5)},
       {"render_ms_median", percentile(draw_ms_, 0.5)},
+      {"view_yaw_deg", s_.yaw_deg},
+      {"view_pitch_deg", s_.pitch_deg},
       {"pairs_saved", pairs_saved_},
       {"events", events_}};
   const std::string text = j.dump(2) + "\n";

@@ -8,7 +8,12 @@
 
 #include <cerrno>
 #include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -25,6 +30,8 @@ button{font-size:16px;margin:4px}</style></head><body>
 <figure><img id="front" src="/front.jpg"><figcaption>front camera</figcaption></figure>
 <figure><img id="side" src="/side.jpg"><figcaption>side camera</figcaption></figure>
 <figure><img id="view" src="/view.jpg"><figcaption>rotated view</figcaption></figure>
+<div>yaw <input id="yaw" type="range" min="-90" max="90" step="1"> <span id="yawv"></span>
+pitch <input id="pitch" type="range" min="-60" max="60" step="1"> <span id="pitchv"></span></div>
 <div><button onclick="fetch('/capture')">take pair</button>
 <button onclick="fetch('/refit')">refit model</button>
 streams: <a href="/front.mjpg">front</a> <a href="/side.mjpg">side</a> <a href="/view.mjpg">view</a></div>
@@ -34,6 +41,10 @@ function poll(id){const i=document.getElementById(id);const n=new Image();
  n.onload=()=>{i.src=n.src;setTimeout(()=>poll(id),60)};n.onerror=()=>setTimeout(()=>poll(id),500);
  n.src='/'+id+'.jpg?t='+Date.now();}
 ['front','side','view'].forEach(poll);
+function shown(v){yaw.value=v.yaw;pitch.value=v.pitch;yawv.textContent=v.yaw;pitchv.textContent=v.pitch}
+fetch('/view').then(r=>r.json()).then(shown);
+[yaw,pitch].forEach(s=>s.oninput=()=>fetch('/view?yaw='+yaw.value+'&pitch='+pitch.value)
+ .then(r=>r.json()).then(shown));
 setInterval(()=>fetch('/status').then(r=>r.text()).then(t=>{document.getElementById('status').textContent=t}),500);
 </script></body></html>
 )html";
@@ -61,7 +72,8 @@ void respond(int fd, const std::string& status, const std::string& type, const s
 }
 
 // The request path of "GET /x?y HTTP/1.1", without the query; "" if unreadable.
-std::string read_path(int fd) {
+// The request's target (path and query).
+std::string read_target(int fd) {
   std::string req;
   char buf[1024];
   while (req.find("\r\n\r\n") == std::string::npos && req.size() < 8192) {
@@ -73,8 +85,16 @@ std::string read_path(int fd) {
   }
   const size_t a = req.find(' '), b = req.find(' ', a + 1);
   if (a == std::string::npos || b == std::string::npos) return "";
-  std::string path = req.substr(a + 1, b - a - 1);
-  return path.substr(0, path.find('?'));
+  return req.substr(a + 1, b - a - 1);
+}
+
+// `text` as a number in [lo, hi], else nullopt.
+std::optional<double> number_in(const std::string& text, double lo, double hi) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v) || v < lo || v > hi)
+    return std::nullopt;
+  return v;
 }
 
 }  // namespace
@@ -149,8 +169,12 @@ void StationHttp::accept_loop() {
 }
 
 void StationHttp::serve(int fd) {
-  const std::string path = read_path(fd);
-  if (path.empty()) return;
+  const std::string target = read_target(fd);
+  if (target.empty()) return;
+  const size_t q = target.find('?');
+  const std::string path = target.substr(0, q);
+  const std::string query = q == std::string::npos ? "" : target.substr(q + 1);
+  if (path == "/view") return serve_view(fd, query);
   if (path == "/" || path == "/index.html") return respond(fd, "200 OK", "text/html", kPage);
   if (path == "/status") {
     std::lock_guard<std::mutex> lock(m_);
@@ -237,6 +261,47 @@ std::vector<unsigned char> StationHttp::jpeg_of(const std::string& name, unsigne
 void StationHttp::set_status(const std::string& json) {
   std::lock_guard<std::mutex> lock(m_);
   status_ = json;
+}
+
+// GET /view?yaw=DEG&pitch=DEG: either or both set the view (yaw -90..90, pitch -60..60); 200
+// with the values in force, 400 naming the first bad parameter (nothing changes then).
+void StationHttp::serve_view(int fd, const std::string& query) {
+  double yaw = 0, pitch = 0;
+  {
+    std::lock_guard<std::mutex> lock(m_);
+    yaw = view_yaw_, pitch = view_pitch_;
+  }
+  std::stringstream ss(query);
+  for (std::string item; std::getline(ss, item, '&');) {
+    if (item.empty()) continue;
+    const size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq),
+                      value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    const bool is_yaw = key == "yaw";
+    if (!is_yaw && key != "pitch")
+      return respond(fd, "400 Bad Request", "application/json",
+                     "{\"error\": \"unknown parameter '" + key + "': expected yaw, pitch\"}");
+    const auto v = number_in(value, is_yaw ? -90 : -60, is_yaw ? 90 : 60);
+    if (!v)
+      return respond(fd, "400 Bad Request", "application/json",
+                     "{\"error\": \"" + key + " must be a number in " +
+                         (is_yaw ? "-90..90" : "-60..60") + " degrees\"}");
+    (is_yaw ? yaw : pitch) = *v;
+  }
+  set_view(yaw, pitch);
+  char json[96];
+  std::snprintf(json, sizeof(json), "{\"yaw\": %.2f, \"pitch\": %.2f}", yaw, pitch);
+  respond(fd, "200 OK", "application/json", json);
+}
+
+void StationHttp::set_view(double yaw_deg, double pitch_deg) {
+  std::lock_guard<std::mutex> lock(m_);
+  view_yaw_ = yaw_deg, view_pitch_ = pitch_deg;
+}
+
+std::pair<double, double> StationHttp::view() {
+  std::lock_guard<std::mutex> lock(m_);
+  return {view_yaw_, view_pitch_};
 }
 
 size_t StationHttp::worker_threads() {

@@ -7,6 +7,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -14,7 +15,8 @@
 namespace orthoface::app {
 
 // The station's tiny HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
-// /NAME.jpg and /NAME.mjpg (multipart stream) for each published image, /status (JSON), and
+// /NAME.jpg and /NAME.mjpg (multipart stream) for each published image, /status (JSON), /view
+// (GET or set the output's yaw / pitch), and
 // /capture, /refit which queue an action for the station loop. One thread per connection,
 // joined once it has finished.
 class StationHttp {
@@ -32,6 +34,10 @@ class StationHttp {
   void set_status(const std::string& json);
   std::vector<std::string> take_actions();  // "capture" / "refit" requested since the last call
   int port() const { return port_; }
+  // The view the output shows (degrees), set by the station at start and by GET /view?yaw=&pitch=
+  // (the page's sliders).
+  void set_view(double yaw_deg, double pitch_deg);
+  std::pair<double, double> view();
   // Connection threads held (serving or finished and not yet joined): finished ones are joined
   // as new connections come, so this stays near the number of open connections.
   size_t worker_threads();
@@ -40,6 +46,7 @@ class StationHttp {
   void accept_loop();
   void serve(int fd);
   void stream(int fd, const std::string& name);
+  void serve_view(int fd, const std::string& query);
 
   int port_ = 0;
   int listen_fd_ = -1;
@@ -56,6 +63,7 @@ class StationHttp {
                                      unsigned long* version);  // "" if none
   std::map<std::string, Slot> images_;
   std::string status_ = "{}";
+  double view_yaw_ = 0, view_pitch_ = 0;
   std::vector<std::string> actions_;
   struct Worker {
     std::thread thread;

@@ -216,6 +216,8 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
   EXPECT_NE(http_get(port, "/front.jpg").find("image/jpeg"), std::string::npos);
   EXPECT_NE(http_get(port, "/capture").find("queued"), std::string::npos);
   EXPECT_NE(http_get(port, "/nothing").find("404"), std::string::npos);
+  EXPECT_NE(http_get(port, "/view").find("\"yaw\": 35.00"), std::string::npos);  // --yaw
+  EXPECT_NE(http_get(port, "/view?yaw=-12&pitch=6").find("200 OK"), std::string::npos);
   const std::string chromium = fs::exists("/usr/bin/chromium") ? "/usr/bin/chromium" : "";
   const fs::path shot = dir / "station_page.png";
   if (!chromium.empty()) {
@@ -234,6 +236,9 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
   ASSERT_EQ(run.code, 0) << run.output;
   const std::string summary = read_text(dir / "out/station_summary.json");
   EXPECT_NE(summary.find("pair_001"), std::string::npos) << summary;
+  // The view set over HTTP is the one the output ended with.
+  EXPECT_NE(summary.find("\"view_yaw_deg\": -12.0"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"view_pitch_deg\": 6.0"), std::string::npos) << summary;
   EXPECT_TRUE(fs::exists(dir / "out/pairs/pair_001/front.png"));
   if (chromium.empty()) GTEST_SKIP() << "chromium not installed: page screenshot not taken";
   // The HTTP checks above are the test; the browser's screenshot is a look at the page, and a
@@ -309,6 +314,25 @@ TEST(StationHttp, FinishedConnectionsAreJoined) {
               http.worker_threads(), grown);
   EXPECT_LE(http.worker_threads(), 4u);
   EXPECT_LT(grown, 8 * 1024);
+}
+
+// GET /view reads and sets the output's yaw and pitch; bad values are refused and change nothing.
+TEST(StationHttp, ViewIsSetOverHttpAndBadValuesAreRefused) {
+  orthoface::app::StationHttp http("127.0.0.1", free_port());
+  http.set_view(30, 0);
+  EXPECT_NE(http_get(http.port(), "/view").find("{\"yaw\": 30.00, \"pitch\": 0.00}"),
+            std::string::npos);
+  const std::string ok = http_get(http.port(), "/view?yaw=-20.5&pitch=10");
+  EXPECT_NE(ok.find("200 OK"), std::string::npos) << ok;
+  EXPECT_EQ(http.view(), (std::pair<double, double>(-20.5, 10)));
+  for (const char* bad : {"/view?yaw=abc", "/view?yaw=91", "/view?pitch=-61", "/view?roll=3",
+                          "/view?yaw=", "/view?yaw=10&pitch=nan"}) {
+    const std::string r = http_get(http.port(), bad);
+    EXPECT_NE(r.find("400 Bad Request"), std::string::npos) << bad << ": " << r;
+    EXPECT_NE(r.find("\"error\""), std::string::npos) << bad;
+  }
+  EXPECT_EQ(http.view(), (std::pair<double, double>(-20.5, 10)));
+  EXPECT_NE(http_get(http.port(), "/").find("id=\"yaw\" type=\"range\""), std::string::npos);
 }
 
 }  // namespace
