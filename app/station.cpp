@@ -131,6 +131,8 @@ class Station {
   std::unique_ptr<V4l2Output> v4l2_;
   std::unique_ptr<render::ViewSynthesizer> synth_;
   capture::RigCalibration synth_rig_;
+  reconstruct::ViewModel model_;  // the whole head and its pivot
+  reconstruct::ViewScene scene_;  // the fit's front frame without the head
   std::future<reconstruct::Reconstruction> fit_;
   cv::Mat view_;
   std::vector<double> latency_s_, out_times_;
@@ -172,13 +174,16 @@ void Station::finish_fit() {
   if (!fit_.valid() || fit_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
   try {
     reconstruct::Reconstruction r = fit_.get();
+    model_ = reconstruct::view_model(r, reconstruct::HeadExtent::Whole);
     if (!synth_) {
       // Texture from where the photos were taken; no side mask: the live frames move.
-      synth_ = std::make_unique<render::ViewSynthesizer>(r.mesh, r.photo_rig, r.front, r.side);
+      synth_ = std::make_unique<render::ViewSynthesizer>(model_.mesh, r.photo_rig, r.front, r.side);
       synth_rig_ = r.rig;
     } else {
-      synth_->set_mesh(r.mesh);
+      synth_->set_mesh(model_.mesh);
     }
+    synth_->set_face_vertices(model_.face_vertices);
+    scene_ = reconstruct::view_scene(r, *synth_);
     ++fits_;
     events_.push_back("model fitted (" + std::to_string(r.mesh.vertices.size()) + " vertices)");
   } catch (const std::exception& e) {
@@ -217,8 +222,11 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     // much for a live frame on two cores; the offline render and batch use them.
     image_only.float_textures = false;
     if (http_) std::tie(s_.yaw_deg, s_.pitch_deg) = http_->view();  // the page's sliders
-    view_ = synth_->render(capture::view_camera(synth_rig_, s_.yaw_deg, s_.pitch_deg), image_only)
-                .view.image;
+    // The whole head turned about the neck, drawn into the live front frame (the head's place
+    // filled from the fit's scene).
+    view_ = scene_.composite(
+        synth_->render(model_.camera(synth_rig_.front, s_.yaw_deg, s_.pitch_deg), image_only).view,
+        front.image);
     draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));

@@ -168,10 +168,14 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
 // into the photo's own (the body does not turn with the head).
 struct ViewScene {
   cv::Mat background;  // 8-bit BGR
+  cv::Mat removed;     // CV_8U: where the head was removed and `background` filled in
   double fade_from_row = std::numeric_limits<double>::infinity();
   double fade_to_row = std::numeric_limits<double>::infinity();
   // `view` (of the scene's size and framing) drawn into the scene.
   cv::Mat composite(const render::RenderResult& view) const;
+  // The same over `frame` (a later photo from the same camera, e.g. a live frame) with the
+  // removed region taken from the scene: the body moves, the head's place stays filled.
+  cv::Mat composite(const render::RenderResult& view, const cv::Mat& frame) const;
   // The scene scaled into a width x height frame as render::fitted does.
   ViewScene fitted(int width, int height) const;
 };

@@ -34,9 +34,19 @@ cv::Mat ViewScene::composite(const render::RenderResult& view) const {
   return render::composite(view, background, o);
 }
 
+cv::Mat ViewScene::composite(const render::RenderResult& view, const cv::Mat& frame) const {
+  if (frame.size() != background.size() || frame.type() != background.type())
+    throw std::invalid_argument("composite: the frame must be 8-bit BGR of the scene's size");
+  ViewScene live = *this;
+  live.background = frame.clone();
+  background.copyTo(live.background, removed);
+  return live.composite(view);
+}
+
 ViewScene ViewScene::fitted(int width, int height) const {
   ViewScene s = *this;
   s.background = render::fitted(background, width, height);
+  s.removed = render::fitted(removed, width, height) > 127;
   const double k = std::min(double(width) / background.cols, double(height) / background.rows);
   const double top = (height - background.rows * k) / 2;
   s.fade_from_row = top + fade_from_row * k;
@@ -77,6 +87,8 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
   }
   const int grow = std::max(4, int(std::lround(0.012 * head.cols)));
   scene.background = render::head_removed(r.front, region, r.front_plate, grow, r.front_silhouette);
+  cv::dilate(region > 0, scene.removed,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow + 1, 2 * grow + 1}));
   return scene;
 }
 

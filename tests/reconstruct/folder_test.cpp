@@ -121,6 +121,18 @@ TEST_F(Folder, TheSceneLosesTheHeadAndYawZeroGivesThePhotoBack) {
               head_db, frame_db);
   EXPECT_GT(head_db, 40.0);
   EXPECT_GT(frame_db, 28.0);  // the ring around the head is the scene's fill
+  // Over a live frame: the body is the frame's, the head's place the scene's.
+  cv::Mat frame = rec_->front.clone();
+  frame.setTo(cv::Scalar(10, 200, 30), ~scene.removed);
+  const cv::Mat live = scene.composite(zero, frame);
+  cv::Point outside(0, 0);
+  EXPECT_EQ(live.at<cv::Vec3b>(outside), cv::Vec3b(10, 200, 30));
+  cv::Mat in_removed_only = scene.removed & ~zero.mask;
+  std::vector<cv::Point> filled;
+  cv::findNonZero(in_removed_only, filled);
+  ASSERT_FALSE(filled.empty());
+  EXPECT_EQ(live.at<cv::Vec3b>(filled.front()), scene.background.at<cv::Vec3b>(filled.front()));
+  EXPECT_THROW(scene.composite(zero, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
   const ViewScene half = scene.fitted(scene.background.cols / 2, scene.background.rows / 2);
   EXPECT_NEAR(half.fade_from_row, scene.fade_from_row / 2, 1);
 }
