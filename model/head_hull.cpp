@@ -256,8 +256,8 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
     const Slice& s = slices[size_t(j)];
     for (int i = 0; i < n; ++i) {
       const double t = 2 * kPi * i / n;
-      double r = superellipse_radius(s.a, s.b,
-                                     std::cos(t) >= 0 ? o.front_exponent : o.back_exponent, t);
+      double r =
+          superellipse_radius(s.a, s.b, std::cos(t) >= 0 ? o.front_exponent : o.back_exponent, t);
       const int col = (i + n / 2) % n;
       if (any_face) {
         const float face_r = radii.at<float>(j, col);

@@ -14,8 +14,8 @@
 namespace orthoface::model {
 
 struct HullOptions {
-  double slice_mm = 2;       // vertical spacing of the slices
-  int angles = 96;           // points around each slice
+  double slice_mm = 2;  // vertical spacing of the slices
+  int angles = 96;      // points around each slice
   // A slice is the superellipse |x/a|^n + |z/b|^n = 1 inscribed in the silhouettes' box: n =
   // front_exponent in front of the box's middle (the face's side, round), back_exponent behind
   // it (the back of a head is squarer than an ellipse).
