@@ -134,8 +134,9 @@ double superellipse_radius(double a, double b, double n, double t) {
   return std::pow(std::pow(s, n) + std::pow(c, n), -1.0 / n);
 }
 
-// Where the face mesh lies around the slices: its largest radius per (slice, angle) cell, 0 where
-// it does not reach. Columns are shifted by half a turn so the face (angle 0) lies mid-grid.
+// Where the face mesh lies around the slices: per (slice, angle) cell, the smallest of the face's
+// outermost radii around it (hollow_mm, hollow_deg), 0 where the face does not reach. Columns are
+// shifted by half a turn so the face (angle 0) lies mid-grid.
 cv::Mat face_radii(const mesh::TriMesh& face, const std::vector<Slice>& slices,
                    const HullOptions& o) {
   const int n = o.angles;
