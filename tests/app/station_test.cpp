@@ -312,8 +312,9 @@ TEST(StationHttp, FinishedConnectionsAreJoined) {
   const long grown = resident_kb() - before;
   std::printf("3000 status requests: %zu connection threads held, resident memory +%ld kB\n",
               http.worker_threads(), grown);
+  // The threads are the leak (3201 held before joining, +37.7 MB in a Release build); resident
+  // memory is reported only: allocators keep freed memory (AddressSanitizer's quarantine: +20 MB).
   EXPECT_LE(http.worker_threads(), 4u);
-  EXPECT_LT(grown, 8 * 1024);
 }
 
 // GET /view reads and sets the output's yaw and pitch; bad values are refused and change nothing.
