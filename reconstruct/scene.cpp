@@ -85,10 +85,14 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
     const int keep = std::clamp(int(std::ceil(scene.fade_from_row)), 0, head.rows);
     region.rowRange(keep, head.rows).setTo(0);
   }
+  // Past the head's edge (its anti-aliased fringe, GrabCut's few pixels of doubt) the photo goes
+  // too, and the subject's own edge stays out of the fill.
   const int grow = std::max(4, int(std::lround(0.012 * head.cols)));
-  scene.background = render::head_removed(r.front, region, r.front_plate, grow, r.front_silhouette);
-  cv::dilate(region > 0, scene.removed,
-             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow + 1, 2 * grow + 1}));
+  const cv::Mat ring = cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow + 1, 2 * grow + 1});
+  cv::dilate(region > 0, scene.removed, ring);
+  cv::Mat subject;
+  if (!r.front_silhouette.empty()) cv::dilate(r.front_silhouette, subject, ring);
+  scene.background = render::head_removed(r.front, scene.removed, r.front_plate, subject);
   return scene;
 }
 

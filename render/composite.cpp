@@ -22,7 +22,7 @@ void require(bool ok, const std::string& what) {
 }  // namespace
 
 cv::Mat head_removed(const cv::Mat& photo, const cv::Mat& region, const cv::Mat& clean_plate,
-                     int grow_px, const cv::Mat& subject) {
+                     const cv::Mat& subject) {
   require(!photo.empty() && photo.type() == CV_8UC3, "head_removed: the photo is not 8-bit BGR");
   require(region.type() == CV_8UC1 && region.size() == photo.size(),
           "head_removed: the region must be 8-bit single-channel of the photo's size " +
@@ -31,14 +31,10 @@ cv::Mat head_removed(const cv::Mat& photo, const cv::Mat& region, const cv::Mat&
       clean_plate.empty() || (clean_plate.type() == CV_8UC3 && clean_plate.size() == photo.size()),
       "head_removed: the clean plate must be 8-bit BGR of the photo's size " + size_text(photo) +
           ", not " + size_text(clean_plate));
-  require(grow_px >= 0, "head_removed: grow_px must be >= 0");
   require(subject.empty() || (subject.type() == CV_8UC1 && subject.size() == photo.size()),
           "head_removed: the subject mask must be 8-bit single-channel of the photo's size " +
               size_text(photo) + ", not " + size_text(subject));
-  cv::Mat hole = region > 0;
-  if (grow_px > 0)
-    cv::dilate(hole, hole,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow_px + 1, 2 * grow_px + 1}));
+  const cv::Mat hole = region > 0;
   cv::Mat out = photo.clone();
   if (cv::countNonZero(hole) == 0) return out;
   if (!clean_plate.empty()) {
@@ -48,13 +44,7 @@ cv::Mat head_removed(const cv::Mat& photo, const cv::Mat& region, const cv::Mat&
   // Half size: inpainting costs grow with the hole's area, and a background is smooth anyway.
   cv::Mat small, small_hole, filled, back;
   cv::resize(photo, small, {}, 0.5, 0.5, cv::INTER_AREA);
-  cv::Mat unknown = hole.clone();
-  if (!subject.empty()) {
-    cv::Mat grown_subject;
-    cv::dilate(subject > 0, grown_subject,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * grow_px + 1, 2 * grow_px + 1}));
-    unknown |= grown_subject;
-  }
+  const cv::Mat unknown = subject.empty() ? hole : (hole | (subject > 0));
   cv::resize(unknown, small_hole, small.size(), 0, 0, cv::INTER_NEAREST);
   cv::dilate(small_hole, small_hole, cv::Mat::ones(3, 3, CV_8U));
   cv::inpaint(small, small_hole, filled, 5, cv::INPAINT_TELEA);

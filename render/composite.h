@@ -10,14 +10,14 @@
 
 namespace orthoface::render {
 
-// `photo` (8-bit BGR) with `region` (CV_8U of its size, non-zero = the head to remove, e.g. the
-// head's view from the photo's own camera) grown by `grow_px` and filled: from `clean_plate` (the
-// empty scene, 8-bit BGR of the same size) when given, else by OpenCV's inpainting (Telea 2004)
-// on a half-size copy, from the background alone when `subject` (CV_8U, non-zero = the whole
-// subject, body included) is given, so skin and clothes do not bleed into the fill. Throws
-// std::invalid_argument naming the input when a type or size differs or grow_px is negative.
+// `photo` (8-bit BGR) with `region` (CV_8U of its size, non-zero = what to remove, e.g. the head's
+// view from the photo's own camera, grown past its edge) filled: from `clean_plate` (the empty
+// scene, 8-bit BGR of the same size) when given, else by OpenCV's inpainting (Telea 2004) on a
+// half-size copy, from the background alone when `subject` (CV_8U, non-zero = the whole subject,
+// body included) is given, so skin and clothes do not bleed into the fill. Throws
+// std::invalid_argument naming the input when a type or size differs.
 cv::Mat head_removed(const cv::Mat& photo, const cv::Mat& region, const cv::Mat& clean_plate = {},
-                     int grow_px = 4, const cv::Mat& subject = {});
+                     const cv::Mat& subject = {});
 
 struct CompositeOptions {
   double feather_px = 1.0;  // the view's mask edge is softened over about this many pixels
