@@ -82,17 +82,29 @@ std::optional<Slice> slice_at(const cv::Mat& front, const cv::Mat& side,
   return s;
 }
 
+// Where the face mesh is: the mean of its vertices and its lowest height (head frame, mm).
+struct FaceSpan {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  double bottom = 0;
+};
+
+FaceSpan face_span(const mesh::TriMesh& face) {
+  FaceSpan f;
+  f.bottom = face.vertices.front().y();
+  for (const auto& v : face.vertices) {
+    f.mean += v;
+    f.bottom = std::min(f.bottom, v.y());
+  }
+  f.mean /= double(face.vertices.size());
+  return f;
+}
+
 // The slices from the top of the head down to the collar, top first.
 std::vector<Slice> head_slices(const cv::Mat& front, const cv::Mat& side,
-                               const capture::RigCalibration& rig, const mesh::TriMesh& face,
+                               const capture::RigCalibration& rig, const FaceSpan& face,
                                const HullOptions& o) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  double face_bottom = face.vertices.front().y();
-  for (const auto& v : face.vertices) {
-    mean += v;
-    face_bottom = std::min(face_bottom, v.y());
-  }
-  mean /= double(face.vertices.size());
+  const Eigen::Vector3d& mean = face.mean;
+  const double face_bottom = face.bottom;
   std::vector<Slice> up, down;
   double x_ref = mean.x(), z_ref = mean.z();
   for (double y = mean.y(); y < mean.y() + kSearchMm; y += o.slice_mm) {
@@ -211,23 +223,19 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
   }
   mesh::check_mesh(face, "head hull: the face mesh");
 
+  const FaceSpan span = face_span(face);
   const std::vector<Slice> slices =
-      head_slices(front_silhouette, side_silhouette, photo_rig, face, o);
+      head_slices(front_silhouette, side_silhouette, photo_rig, span, o);
   if (slices.size() < 8) return {};
   HeadHull hull;
-  double face_bottom = face.vertices.front().y(), face_mean = 0;
-  for (const auto& v : face.vertices) {
-    face_bottom = std::min(face_bottom, v.y());
-    face_mean += v.y() / double(face.vertices.size());
-  }
   Eigen::Vector2d neck = Eigen::Vector2d::Zero();
   int neck_slices = 0;
   for (const Slice& s : slices)
-    if (s.y <= face_bottom - 10 && s.y >= face_bottom - 40)
+    if (s.y <= span.bottom - 10 && s.y >= span.bottom - 40)
       neck += Eigen::Vector2d(s.xc, s.zc), ++neck_slices;
   if (neck_slices > 0) {
     neck /= neck_slices;
-    hull.pivot = {neck.x(), 0.5 * (face_mean + face_bottom), neck.y()};
+    hull.pivot = {neck.x(), 0.5 * (span.mean.y() + span.bottom), neck.y()};
   }
   const int n = o.angles, rows = int(slices.size());
   const cv::Mat radii = face_radii(face, slices, o);

@@ -51,11 +51,6 @@ cv::Mat grow(const cv::Mat& bgr, const cv::Mat& blob, const cv::Rect2d& box,
   return full > 127;
 }
 
-const Feature2d* feature(const ViewObservation& view, const char* name) {
-  const auto it = view.features.find(name);
-  return it == view.features.end() ? nullptr : &it->second;
-}
-
 }  // namespace
 
 void SilhouetteOptions::check() const {
@@ -83,8 +78,8 @@ Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
                                   std::to_string(view->width) + "x" + std::to_string(view->height));
   }
   Silhouettes out{obs.front_blob.clone(), obs.side_blob.clone()};
-  const Feature2d* el = feature(obs.front, "eye_left_center");
-  const Feature2d* er = feature(obs.front, "eye_right_center");
+  const Feature2d* el = find_feature(obs.front.features, "eye_left_center");
+  const Feature2d* er = find_feature(obs.front.features, "eye_right_center");
   if (!el || !er) return out;
   const double e = cv::norm(el->px - er->px);
   const double eye_row = 0.5 * (el->px.y + er->px.y);
@@ -94,7 +89,8 @@ Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
   const cv::Rect2d front_box(centre_x - o.half_width_e * e, top, 2 * o.half_width_e * e,
                              front.rows - top);
   std::future<cv::Mat> side_grown;
-  if (const Feature2d* nose = feature(obs.side, "nose_tip"); nose && !obs.side_blob.empty()) {
+  if (const Feature2d* nose = find_feature(obs.side.features, "nose_tip");
+      nose && !obs.side_blob.empty()) {
     const double behind = o.back_e * e, before = 0.4 * e;
     const double x0 = obs.side_faces_left ? nose->px.x - before : nose->px.x - behind;
     const cv::Rect2d side_box(x0, top, behind + before, side.rows - top);

@@ -74,4 +74,11 @@ struct FaceObservation {
   std::vector<std::string> warnings;  // what is missing or doubtful, for report.json
 };
 
+// The feature named `name` in `features`, or nullptr.
+inline const Feature2d* find_feature(const std::map<std::string, Feature2d>& features,
+                                     const std::string& name) {
+  const auto it = features.find(name);
+  return it == features.end() ? nullptr : &it->second;
+}
+
 }  // namespace orthoface::vision

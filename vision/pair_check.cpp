@@ -52,11 +52,6 @@ void measure_face_image(const cv::Mat& bgr, const cv::Rect2d& box, PairMeasures&
   m.front_clipped = double(cv::countNonZero(luma >= 250)) / luma.total();
 }
 
-const Feature2d* find(const std::map<std::string, Feature2d>& m, const char* name) {
-  const auto it = m.find(name);
-  return it == m.end() ? nullptr : &it->second;
-}
-
 // Least squares y = a x + b over `p`; false when the x do not spread.
 bool fit_line(const std::vector<std::pair<double, double>>& p, double& a, double& b) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -76,12 +71,12 @@ double height_residual(const FaceObservation& obs) {
   std::vector<std::pair<double, double>> rows;  // (side row, front row)
   for (const char* n :
        {"nose_bridge", "nose_tip", "subnasale", "lip_upper", "lip_lower", "chin", "chin_bottom"}) {
-    const Feature2d* f = find(obs.front_trained, n);
-    const Feature2d* s = find(obs.side.features, n);
+    const Feature2d* f = find_feature(obs.front_trained, n);
+    const Feature2d* s = find_feature(obs.side.features, n);
     if (f && s && s->confidence > 0) rows.emplace_back(s->px.y, f->px.y);
   }
-  const Feature2d* top = find(obs.front_trained, "nose_bridge");
-  const Feature2d* bottom = find(obs.front_trained, "chin_bottom");
+  const Feature2d* top = find_feature(obs.front_trained, "nose_bridge");
+  const Feature2d* bottom = find_feature(obs.front_trained, "chin_bottom");
   if (rows.size() < 5 || !top || !bottom || bottom->px.y <= top->px.y) return PairMeasures::kNaN;
   double best = PairMeasures::kNaN;
   for (size_t drop = 0; drop < rows.size(); ++drop) {
@@ -121,11 +116,11 @@ std::optional<cv::Vec3d> patch_lab(const cv::Mat& bgr, cv::Point2d centre, doubl
 // Cheek skin: in the front photo below each eye, halfway to the nose tip's row; in the side
 // photo under the eye, behind the nose tip by 1.2 nose lengths (nasion to tip).
 double skin_delta_e(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
-  const Feature2d* el = find(obs.front_trained, "eye_left_center");
-  const Feature2d* er = find(obs.front_trained, "eye_right_center");
-  const Feature2d* tip = find(obs.front_trained, "nose_tip");
-  const Feature2d* s_tip = find(obs.side.features, "nose_tip");
-  const Feature2d* s_bridge = find(obs.side.features, "nose_bridge");
+  const Feature2d* el = find_feature(obs.front_trained, "eye_left_center");
+  const Feature2d* er = find_feature(obs.front_trained, "eye_right_center");
+  const Feature2d* tip = find_feature(obs.front_trained, "nose_tip");
+  const Feature2d* s_tip = find_feature(obs.side.features, "nose_tip");
+  const Feature2d* s_bridge = find_feature(obs.side.features, "nose_bridge");
   if (!el || !er || !tip || !s_tip || !s_bridge) return PairMeasures::kNaN;
   const double eyes = cv::norm(el->px - er->px);
   std::vector<cv::Vec3d> fronts;
@@ -165,10 +160,10 @@ cv::Mat subject_histogram(const cv::Mat& bgr, const cv::Mat& blob, double bottom
 // The subject's colours down to the chin plus 1.5 nose-bridge-to-chin heights (neck and
 // collar) in both photos; NaN without the chin and nose bridge in both, or without the blobs.
 double colour_distance(const cv::Mat& front, const cv::Mat& side, const FaceObservation& obs) {
-  const Feature2d* fc = find(obs.front_trained, "chin_bottom");
-  const Feature2d* fn = find(obs.front_trained, "nose_bridge");
-  const Feature2d* sc = find(obs.side.features, "chin_bottom");
-  const Feature2d* sn = find(obs.side.features, "nose_bridge");
+  const Feature2d* fc = find_feature(obs.front_trained, "chin_bottom");
+  const Feature2d* fn = find_feature(obs.front_trained, "nose_bridge");
+  const Feature2d* sc = find_feature(obs.side.features, "chin_bottom");
+  const Feature2d* sn = find_feature(obs.side.features, "nose_bridge");
   if (!fc || !fn || !sc || !sn) return PairMeasures::kNaN;
   const cv::Mat hf =
       subject_histogram(front, obs.front_blob, fc->px.y + 1.5 * (fc->px.y - fn->px.y));
