@@ -156,10 +156,11 @@ std::array<double, kNumRegions> uncovered_by_region(const sim::Head& head, const
   return share;
 }
 
-// Scores::head_* for reconstruction `r` of `head`.
+// Scores::head_* for reconstruction `r` of `head`; `truths` are its true views at kYawsDeg.
 // With `picture`: truth, view and error at 45 deg written there.
 void whole_head_scores(const sim::Head& head, const sim::RigOptions& options,
-                       const reconstruct::Reconstruction& r, render::Renderer& renderer, Scores& s,
+                       const reconstruct::Reconstruction& r,
+                       const std::vector<render::RenderResult>& truths, Scores& s,
                        const std::string& picture) {
   const auto chin = head.landmarks.find("chin_bottom");
   const reconstruct::ViewModel whole = reconstruct::view_model(r, reconstruct::HeadExtent::Whole);
@@ -170,7 +171,7 @@ void whole_head_scores(const sim::Head& head, const sim::RigOptions& options,
       continue;
     }
     const double yaw = kYawsDeg[y] * M_PI / 180;
-    const render::RenderResult truth = sim::true_view(head, options, yaw, 0, renderer);
+    const render::RenderResult& truth = truths[size_t(y)];
     const capture::CameraModel camera = sim::true_view_camera(options, yaw, 0);
     render::SynthesisOptions so;
     so.background = options.background_bgr;
@@ -220,9 +221,11 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
   render::ViewSynthesizer synth(m[0], r.photo_rig, r.front, r.side);
   if (g_photo_masks) synth.set_photo_masks({}, r.side_mask);
   std::vector<render::Tile> tiles;
+  std::vector<render::RenderResult> truths;
   for (int y = 0; y < kNumYaws; ++y) {
     const double yaw = kYawsDeg[y] * M_PI / 180;
-    const render::RenderResult truth = sim::true_view(head, options, yaw, 0, renderer);
+    truths.push_back(sim::true_view(head, options, yaw, 0, renderer));
+    const render::RenderResult& truth = truths.back();
     const capture::CameraModel camera = sim::true_view_camera(options, yaw, 0);
     const cv::Mat mask =
         sim::has_face_landmarks(head) ? sim::face_mask(head, camera, renderer) : truth.mask;
@@ -262,7 +265,7 @@ SubjectResult run_subject(const sim::Head& head, const std::string& label,
     }
     synth.set_mesh(m[0]);
   }
-  whole_head_scores(head, options, r, renderer, out.s,
+  whole_head_scores(head, options, r, truths, out.s,
                     picture.empty() ? "" : picture.substr(0, picture.size() - 4) + "_whole.png");
   if (!picture.empty()) {
     render::ContactSheetOptions o;
