@@ -208,6 +208,8 @@ void Station::handle(const std::string& action) {
 }
 
 void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
+  // The page's sliders set the view whether or not the fit has finished yet.
+  if (http_) std::tie(s_.yaw_deg, s_.pitch_deg) = http_->view();
   if (synth_) {
     const double t = capture::monotonic_now_s();
     if (frames_out_ % s_.retexture_every == 0 || texture_time_ == 0) {
@@ -221,7 +223,6 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
     // much for a live frame on two cores; the offline render and batch use them.
     image_only.float_textures = false;
-    if (http_) std::tie(s_.yaw_deg, s_.pitch_deg) = http_->view();  // the page's sliders
     // The whole head turned about the neck, drawn into the live front frame (the head's place
     // filled from the fit's scene).
     view_ = scene_.composite(
