@@ -41,7 +41,7 @@ Command station_command() {
       "station",
       "Live two-camera station: shows both cameras and the face turned to --yaw, re-textured "
       "from the live frames every frame; takes a synchronized pair on a key press ('c') or "
-      "GET /capture, refits the model on 'r', GET /refit or every --refit-every frames. "
+      "POST /capture, refits the model on 'r', POST /refit or every --refit-every frames. "
       "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
       "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
       "window|http:PORT|v4l2:/dev/videoN]",
@@ -49,7 +49,7 @@ Command station_command() {
        {"side", true, "DEV  side camera"},
        {"yaw", true,
         "DEG  rotated view yaw, -90..90 (default 30); with --output http: the page's sliders "
-        "and GET /view?yaw=DEG&pitch=DEG change it while running"},
+        "and POST /view?yaw=DEG&pitch=DEG change it while running"},
        {"pitch", true, "DEG  rotated view pitch, -60..60 (default 0)"},
        {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
        {"bind", true, "ADDR  http address (default 127.0.0.1)"},

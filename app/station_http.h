@@ -1,6 +1,5 @@
 #pragma once
 
-#include <atomic>
 #include <condition_variable>
 #include <map>
 #include <memory>
@@ -14,13 +13,25 @@
 
 namespace orthoface::app {
 
-// The station's tiny HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
+// The station's small HTTP server (POSIX sockets): a page with the live images (polled JPEGs),
 // /NAME.jpg and /NAME.mjpg (multipart stream) for each published image, /status (JSON), /view
-// (GET or set the output's yaw / pitch), and
-// /capture, /refit which queue an action for the station loop. One thread per connection,
-// joined once it has finished.
+// (GET reads, POST ?yaw=&pitch= sets the output's view), and POST /capture, /refit which queue an
+// action for the station loop. One thread per connection, joined once it has finished.
+//
+// Made for a LAN and a browser on it: at most kMaxConnections connections are served at once
+// (more get 503 straight away) and kMaxStreams of them MJPEG streams; a request must arrive whole
+// within 2 s and 8 KiB (408 / 431); a client that stops reading is dropped after 1 s; the Host
+// header must name this machine (an IP literal, localhost or its host name: a web page cannot read
+// the cameras through DNS rebinding, 403 otherwise); state changes are POST only (405) and refused
+// from another Origin (403); other methods get 405, a malformed request 400. The destructor
+// returns within about a second whatever the clients do. cpp-httplib 0.11 (Debian 12) does not
+// give the last three: its read timeout is per read (a client sending a byte a second holds a
+// worker for hours) and on stop its pool serves every queued connection to the end.
 class StationHttp {
  public:
+  static constexpr size_t kMaxConnections = 32;
+  static constexpr size_t kMaxStreams = 8;
+
   // Listens on bind_address:port. Throws std::runtime_error naming the port when it is in use or
   // cannot be bound; std::invalid_argument for a port outside 1..65535.
   StationHttp(const std::string& bind_address, int port);
@@ -43,10 +54,12 @@ class StationHttp {
   size_t worker_threads();
 
  private:
+  struct Request;
   void accept_loop();
   void serve(int fd);
-  void stream(int fd, const std::string& name);
-  void serve_view(int fd, const std::string& query);
+  void route(int fd, const Request& request);
+  void stream(int fd, const std::string& name, bool head);
+  void serve_view(int fd, const std::string& query, bool head);
 
   int port_ = 0;
   int listen_fd_ = -1;
@@ -65,9 +78,10 @@ class StationHttp {
   std::string status_ = "{}";
   double view_yaw_ = 0, view_pitch_ = 0;
   std::vector<std::string> actions_;
+  size_t streams_ = 0;  // MJPEG streams being served, under m_
   struct Worker {
     std::thread thread;
-    std::shared_ptr<std::atomic<bool>> done;
+    std::shared_ptr<int> fd;  // the connection, -1 once closed (under m_)
   };
   std::vector<Worker> workers_;  // under m_; finished ones joined by accept_loop
   std::thread acceptor_;
