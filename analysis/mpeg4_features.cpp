@@ -8,7 +8,11 @@
 #include <cmath>
 #include <map>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 #include <tuple>
+
+#include <nlohmann/json.hpp>
 
 #include "analysis/analysis_mesh.h"
 #include "analysis/feature_detail.h"
@@ -410,6 +414,44 @@ FeatureReport mpeg4_features(const mesh::TriMesh& mesh, const FeatureOptions& op
   r.ratio = std::move(ratio_in);
   r.cluster = std::move(cluster_in);
   return r;
+}
+
+std::string feature_report_json(const mesh::TriMesh& mesh, const FeatureReport& r) {
+  const auto vec = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
+  const auto at = [&](int v) {
+    if (v < 0 || size_t(v) >= mesh.vertices.size())
+      throw std::invalid_argument("feature report: vertex " + std::to_string(v) +
+                                  " is not in the mesh of " + std::to_string(mesh.vertices.size()) +
+                                  " vertices");
+    return vec(mesh.vertices[size_t(v)]);
+  };
+  const auto key = [&](const std::optional<int>& v) {
+    return v ? nlohmann::json{{"vertex", *v}, {"position", at(*v)}} : nlohmann::json(nullptr);
+  };
+  nlohmann::json j;
+  j["key_vertices"] = {{"P1_ear_left", key(r.ear_left)},
+                       {"P2_ear_right", key(r.ear_right)},
+                       {"P4_nose_tip", key(r.nose_tip)}};
+  if (r.axes_found) {
+    j["key_vertices"]["P3_ear_midpoint"] = vec(r.ear_midpoint);
+    j["axes"] = {{"origin", vec(r.ear_midpoint)},
+                 {"left", vec(r.axes.col(0))},
+                 {"up", vec(r.axes.col(1))},
+                 {"forward", vec(r.axes.col(2))}};
+    j["symmetry_plane"] = {{"normal", vec(r.symmetry_plane.head<3>())},
+                           {"d", r.symmetry_plane[3]},
+                           {"mirror_error", r.symmetry_error}};
+  }
+  j["feature_points"] = nlohmann::json::array();
+  for (const auto& p : r.points) {
+    at(p.vertex);
+    j["feature_points"].push_back({{"name", p.name},
+                                   {"description", p.description},
+                                   {"vertex", p.vertex},
+                                   {"position", vec(p.position)}});
+  }
+  j["missing"] = r.missing;
+  return j.dump(2);
 }
 
 }  // namespace orthoface::analysis

@@ -50,6 +50,13 @@ struct FeatureReport {
 // Vertex indices refer to `mesh`. Throws std::invalid_argument on a malformed mesh.
 FeatureReport mpeg4_features(const mesh::TriMesh& mesh, const FeatureOptions& options = {});
 
+// `report` of `mesh` as JSON text (features.json of `orthoface features`, `orthoface.features` in
+// Python): key_vertices (P1_ear_left, P2_ear_right, P4_nose_tip as {vertex, position} or null;
+// P3_ear_midpoint), axes and symmetry_plane when the ears were found, feature_points (name,
+// description, vertex, position) and missing. Throws std::invalid_argument when a vertex index
+// of `report` is outside `mesh`.
+std::string feature_report_json(const mesh::TriMesh& mesh, const FeatureReport& report);
+
 // Diagonal of the mesh's bounding box along its principal axes (the same in every pose): the
 // length every relative option above is a fraction of. Throws std::invalid_argument on a bad mesh.
 double pose_free_size(const mesh::TriMesh& mesh);

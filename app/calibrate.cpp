@@ -35,7 +35,10 @@ Command calibrate_command() {
            {"interval", true, "S  live: seconds between pairs (default 1.5)"},
            {"board", true, "CxR  inner corners (default 9x6; C + R odd)"},
            {"square", true, "MM  square side (default 25)"},
-           {"out", true, "rig.yaml  output file"}},
+           {"out", true, "rig.yaml  output file"},
+           {"rig-format", true,
+            "orthoface|opencv  the file's form: ours (default) or an OpenCV stereo calibration "
+            "(K1 D1 K2 D2 R T, image_size; docs/formats.md); --rig reads both"}},
           0};
 }
 
@@ -90,6 +93,12 @@ int run_calibrate(int argc, char** argv) {
       (live && !(a.has("front") && a.has("side"))))
     throw std::invalid_argument(
         "calibrate: give --front-images and --side-images, or --front and --side");
+  capture::RigFormat format = capture::RigFormat::Orthoface;
+  try {
+    format = capture::parse_rig_format(a.get("rig-format", "orthoface"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--rig-format: ") + e.what());
+  }
   capture::CalibrationOptions o;
   if (a.has("board")) std::tie(o.board.cols, o.board.rows) = to_size("board", a.get("board"), 64);
   if (a.has("square")) o.board.square_mm = to_double("square", a.get("square"), 0.1, 999);
@@ -104,7 +113,7 @@ int run_calibrate(int argc, char** argv) {
     live_views(a, front, side);
   }
   const capture::RigCalibrationReport r = capture::calibrate_rig(front, side, o);
-  capture::write_rig(r.rig, a.get("out"));
+  capture::write_rig(r.rig, a.get("out"), format);
   std::printf(
       "rig written: %s\nviews: front %d, side %d, both %d\nreprojection rms: front %.3f px, side "
       "%.3f px, "

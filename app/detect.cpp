@@ -1,6 +1,8 @@
 // orthoface detect: front + side photos -> observation.json and overlay PNGs (vision layer).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <map>
 #include <stdexcept>
 
 #include <opencv2/imgcodecs.hpp>
@@ -12,6 +14,7 @@
 #include "vision/observation_io.h"
 #include "vision/observe.h"
 #include "vision/overlay.h"
+#include "vision/pts_io.h"
 
 namespace orthoface::app {
 
@@ -33,8 +36,27 @@ const Command kDetect{
       "filters placed by the profile's rows, a trained 68-point network "
       "(MIT weights, vision/models), or both (default: the filters' points "
       "the network confirms, else the network's; the profile's midline)"},
-     {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"}},
+     {"haar", false, "also run OpenCV Haar cascades (opencv-data) to check / fill the eyes"},
+     {"pts", true,
+      "F.pts  also write the front landmarks as iBUG 68 points (docs/formats.md): all 68 when "
+      "the trained network found the face, else the found features that are iBUG points, the "
+      "rest -1 -1 (missing)"}},
     0};
+
+// The front landmarks in the iBUG layout: the trained network's 68 points when it found the
+// face, else the detected features (confidence > 0: not position-model guesses) that are iBUG
+// points.
+vision::Ibug68 front_pts(const vision::FaceObservation& obs) {
+  vision::Ibug68 pts;
+  if (obs.front_points68.size() == pts.size()) {
+    std::copy(obs.front_points68.begin(), obs.front_points68.end(), pts.begin());
+    return pts;
+  }
+  std::map<std::string, vision::Feature2d> found;
+  for (const auto& [name, f] : obs.front.features)
+    if (f.confidence > 0) found[name] = f;
+  return vision::ibug68_from_named(found);
+}
 
 }  // namespace
 
@@ -66,6 +88,14 @@ int run_detect(int argc, char** argv) {
   if (args.has("background-side"))
     options.background_side = vision::read_image(args.get("background-side"));
   options.check();
+  if (args.has("pts")) {  // before the work: a wrong folder should not cost the detection
+    namespace fs = std::filesystem;
+    const fs::path parent = fs::weakly_canonical(fs::absolute(args.get("pts"))).parent_path();
+    const fs::path out_dir = fs::weakly_canonical(fs::absolute(args.get("out")));
+    if (!fs::is_directory(parent) && parent != out_dir)
+      throw std::runtime_error("--pts " + args.get("pts") + ": folder " + parent.string() +
+                               " does not exist");
+  }
   const vision::FaceObservation obs = vision::observe(front, side, options);
   const std::filesystem::path out = args.get("out");
   prepare_output_dir(out.string());
@@ -73,12 +103,14 @@ int run_detect(int argc, char** argv) {
   io::write_image_atomically((out / "overlay_front.png").string(),
                              vision::overlay_front(front, obs));
   io::write_image_atomically((out / "overlay_side.png").string(), vision::overlay_side(side, obs));
+  if (args.has("pts")) vision::write_pts(front_pts(obs), args.get("pts"));
   std::string missing;
   const bool complete = vision::is_complete(obs, &missing);
   std::cout << "detect: front boundary " << obs.front.boundary.size() << " points, side profile "
             << obs.side.boundary.size() << " points, " << obs.front.features.size() << " + "
             << obs.side.features.size() << " features, " << obs.warnings.size() << " warnings -> "
-            << (out / "observation.json").string() << "\n";
+            << (out / "observation.json").string()
+            << (args.has("pts") ? " and " + args.get("pts") : std::string()) << "\n";
   for (const auto& w : obs.warnings) std::cout << "  warning: " << w << "\n";
   if (obs.front.boundary.empty() && obs.side.boundary.empty()) {
     std::cerr << "error: no face found in '" << args.get("front") << "' nor in '"

@@ -30,37 +30,6 @@ Command features_command() {
           1};
 }
 
-nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
-
-nlohmann::json report_json(const mesh::TriMesh& mesh, const analysis::FeatureReport& r) {
-  nlohmann::json j;
-  auto key = [&](const std::optional<int>& v) {
-    return v ? nlohmann::json{{"vertex", *v}, {"position", vec(mesh.vertices[*v])}}
-             : nlohmann::json(nullptr);
-  };
-  j["key_vertices"] = {{"P1_ear_left", key(r.ear_left)},
-                       {"P2_ear_right", key(r.ear_right)},
-                       {"P4_nose_tip", key(r.nose_tip)}};
-  if (r.axes_found) {
-    j["key_vertices"]["P3_ear_midpoint"] = vec(r.ear_midpoint);
-    j["axes"] = {{"origin", vec(r.ear_midpoint)},
-                 {"left", vec(r.axes.col(0))},
-                 {"up", vec(r.axes.col(1))},
-                 {"forward", vec(r.axes.col(2))}};
-    j["symmetry_plane"] = {{"normal", vec(r.symmetry_plane.head<3>())},
-                           {"d", r.symmetry_plane[3]},
-                           {"mirror_error", r.symmetry_error}};
-  }
-  j["feature_points"] = nlohmann::json::array();
-  for (const auto& p : r.points)
-    j["feature_points"].push_back({{"name", p.name},
-                                   {"description", p.description},
-                                   {"vertex", p.vertex},
-                                   {"position", vec(p.position)}});
-  j["missing"] = r.missing;
-  return j;
-}
-
 cv::Mat picture(const mesh::TriMesh& mesh, const analysis::FeatureReport& r, int size) {
   mesh::TriMesh m;
   m.vertices = mesh.vertices, m.triangles = mesh.triangles;
@@ -104,7 +73,7 @@ int run_features(int argc, char** argv) {
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::filesystem::path dir = args.get("o");
   prepare_output_dir(dir.string());
-  nlohmann::json j = report_json(mesh, r);
+  nlohmann::json j = nlohmann::json::parse(analysis::feature_report_json(mesh, r));
   j["mesh"] = path;
   j["seconds"] = secs;
   io::write_text_atomically((dir / "features.json").string(), j.dump(2) + "\n");

@@ -1,6 +1,7 @@
 // orthoface reconstruct: front + side photos -> adapted, textured face mesh and its report.
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "reconstruct/reconstruction.h"
+#include "vision/pts_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -23,7 +25,13 @@ Command reconstruct_command() {
           {{"front", true, "F  front photo"},
            {"side", true, "S  side photo (profile)"},
            {"out", true, "DIR  output folder (created; files of the same name are replaced)"},
-           {"rig", true, "rig.yaml  calibrated or simulated rig (true scale)"},
+           {"rig", true,
+            "rig.yaml  calibrated or simulated rig (true scale): ours, or an OpenCV stereo "
+            "calibration file (K1 D1 K2 D2 R T, image size; docs/formats.md)"},
+           {"front-landmarks", true,
+            "F.pts  iBUG 68-point landmarks of the front photo (dlib, OpenFace; "
+            "docs/formats.md): they replace the detected features, -1 -1 points are left to "
+            "detection"},
            {"side-camera", true, "left|right  where the side camera stood (default: detect)"},
            {"landmarker", true,
             "filters|network|consensus  the front features' detector: the seed's "
@@ -75,6 +83,15 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
   return o;
 }
 
+// The named front landmarks of a .pts file that must fit the front photo.
+std::map<std::string, cv::Point2d> front_landmarks(const std::string& path, const cv::Mat& front) {
+  require_file(path, "--front-landmarks");
+  const vision::Ibug68 pts = vision::read_pts(path);
+  vision::check_pts_in_image(pts, front.cols, front.rows,
+                             "--front-landmarks " + path + " (front photo)");
+  return vision::named_from_ibug68(pts);
+}
+
 }  // namespace
 
 int run_reconstruct(int argc, char** argv) {
@@ -87,12 +104,14 @@ int run_reconstruct(int argc, char** argv) {
   for (const char* flag : {"front", "side", "out"})
     if (!args.has(flag))
       throw std::invalid_argument(std::string("reconstruct: --") + flag + " is required");
-  const reconstruct::ReconstructOptions options = options_from(args);
+  reconstruct::ReconstructOptions options = options_from(args);
   const std::string out = args.get("out");
   if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
     throw std::runtime_error("output folder " + out + ": exists and is not a folder");
   const cv::Mat front = read_photo(args.get("front"), "--front");
   const cv::Mat side = read_photo(args.get("side"), "--side");
+  if (args.has("front-landmarks"))
+    options.observe.front_landmarks = front_landmarks(args.get("front-landmarks"), front);
   const reconstruct::Reconstruction r = reconstruct::from_photos(front, side, options);
   reconstruct::write_reconstruction(r, out);
   double total = 0;
@@ -102,6 +121,9 @@ int run_reconstruct(int argc, char** argv) {
       args.get("front").c_str(), args.get("side").c_str(), out.c_str(), r.mesh.vertices.size(),
       r.report.features_found.size(), r.report.warnings.size(), total,
       options.rig ? "" : "; scale estimated (no --rig)");
+  if (args.has("front-landmarks"))
+    std::printf("  front landmarks: %zu given by %s replace detection\n",
+                options.observe.front_landmarks.size(), args.get("front-landmarks").c_str());
   return 0;
 }
 

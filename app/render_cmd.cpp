@@ -7,10 +7,10 @@
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <opencv2/imgcodecs.hpp>
-#include <opencv2/imgproc.hpp>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -18,6 +18,7 @@
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "reconstruct/reconstruction.h"
+#include "reconstruct/views.h"
 #include "render/contact_sheet.h"
 #include "render/new_view.h"
 #include "render/textured_export.h"
@@ -71,52 +72,8 @@ Command render_command() {
           1};
 }
 
-cv::Scalar parse_color(const std::string& text) {
-  if (text == "black") return {0, 0, 0};
-  if (text == "white") return {255, 255, 255};
-  if (text == "grey" || text == "gray") return {128, 128, 128};
-  int r = 0, g = 0, b = 0;
-  char tail = 0;
-  if (text.size() == 7 && text[0] == '#' &&
-      std::sscanf(text.c_str() + 1, "%2x%2x%2x%c", &r, &g, &b, &tail) == 3)
-    return {double(b), double(g), double(r)};
-  if (std::sscanf(text.c_str(), "%d,%d,%d%c", &r, &g, &b, &tail) == 3 && r >= 0 && r <= 255 &&
-      g >= 0 && g <= 255 && b >= 0 && b <= 255)
-    return {double(b), double(g), double(r)};
-  throw std::invalid_argument(
-      "--background: expected black, white, grey, #RRGGBB, R,G,B or "
-      "transparent, got '" +
-      text + "'");
-}
-
 void write_image(const cv::Mat& image, const fs::path& path) {
   io::write_image_atomically(path.string(), image);
-}
-
-// The front camera rescaled to the output size (the framing of render::fitted).
-capture::CameraModel scaled_front(const capture::RigCalibration& rig, int width, int height) {
-  const capture::CameraModel& front = rig.front;
-  capture::CameraModel k = front;
-  const double sx = double(width) / front.width, sy = double(height) / front.height;
-  const double s = std::min(sx, sy);
-  k.width = width;
-  k.height = height;
-  k.fx = front.fx * s;
-  k.fy = front.fy * s;
-  k.cx = width / 2.0 + (front.cx - front.width / 2.0) * s;
-  k.cy = height / 2.0 + (front.cy - front.height / 2.0) * s;
-  return k;
-}
-
-cv::Mat with_background(const render::RenderResult& r, bool transparent) {
-  if (!transparent) return r.image;
-  cv::Mat bgra;
-  cv::cvtColor(r.image, bgra, cv::COLOR_BGR2BGRA);
-  cv::Mat channels[4];
-  cv::split(bgra, channels);
-  channels[3] = r.mask.clone();
-  cv::merge(channels, 4, bgra);
-  return bgra;
 }
 
 std::string lower_extension(const fs::path& p) {
@@ -175,16 +132,20 @@ int run_render(int argc, char** argv) {
     throw std::invalid_argument("render: missing --yaw DEG");
   const double yaw = a.has("yaw") ? to_double("yaw", a.get("yaw"), -180, 180) : 0;
   const double pitch = to_double("pitch", a.get("pitch", "0"), -89, 89);
-  render::SynthesisOptions o;
+  reconstruct::ViewOptions vo;
+  render::SynthesisOptions& o = vo.synthesis;
   try {
     o.blend = render::parse_blend(a.get("blend", "view"));
   } catch (const std::invalid_argument& e) {
     throw std::invalid_argument(std::string("--blend: ") + e.what());
   }
   o.equalize = !a.has("no-equalize");
-  const std::string bg = a.get("background", "photo");
-  const bool transparent = bg == "transparent", photo_bg = bg == "photo";
-  if (!transparent && !photo_bg) o.background = parse_color(bg);
+  try {
+    vo.background = reconstruct::parse_view_background(a.get("background", "photo"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--background: ") + e.what());
+  }
+  const bool transparent = vo.background.kind == reconstruct::ViewBackground::Kind::Transparent;
   const fs::path out = a.get("o");
   const std::string ext = lower_extension(out);
   if (view_wanted) {
@@ -195,8 +156,8 @@ int run_render(int argc, char** argv) {
                                   out.string());
     check_output_folder(out, "-o");
   }
-  std::pair<int, int> size{0, 0};
-  if (a.has("size")) size = to_size("size", a.get("size"), render::kMaxRenderSize);
+  if (a.has("size"))
+    std::tie(vo.width, vo.height) = to_size("size", a.get("size"), render::kMaxRenderSize);
   try {
     o.unseen = render::parse_unseen_side(a.get("unseen", "view"));
   } catch (const std::invalid_argument& e) {
@@ -206,42 +167,34 @@ int run_render(int argc, char** argv) {
       a.positional[0], {.landmarks = o.unseen != render::UnseenSide::Front});
   if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
   if (!view_wanted) return 0;
-  const auto [w, h] = a.has("size") ? size : std::pair{f.front.cols, f.front.rows};
   const std::string head = a.get("head", "whole");
   if (head != "whole" && head != "face")
     throw std::invalid_argument("--head: expected whole or face, not '" + head + "'");
-  const reconstruct::ViewModel model = reconstruct::view_model(
-      f, head == "face" ? reconstruct::HeadExtent::Face : reconstruct::HeadExtent::Whole);
-  const auto synth = reconstruct::view_synthesizer(f, model);
-  const capture::CameraModel base = scaled_front(f.photo_rig, w, h);
-  if (o.unseen != render::UnseenSide::Front && !synth->mirror_plane()) {
-    if (a.has("unseen"))
-      throw std::invalid_argument("--unseen " + a.get("unseen") + ": " + a.positional[0] +
-                                  " has no landmarks.json with left / right feature pairs");
-    o.unseen = render::UnseenSide::Front;
-  }
+  vo.head = head == "face" ? reconstruct::HeadExtent::Face : reconstruct::HeadExtent::Whole;
   o.float_textures = !a.has("no-float");
-  reconstruct::ViewScene scene;  // --background photo: the front photo's frame without the head
-  if (photo_bg) scene = reconstruct::view_scene(f, *synth).fitted(w, h);
-  auto finished = [&](const render::RenderResult& view) {
-    return photo_bg ? scene.composite(view) : with_background(view, transparent);
-  };
+  // Without landmark pairs the unseen side falls back to the front photo; an explicit --unseen
+  // that needs them is refused.
+  reconstruct::ViewRenderer views(f, vo);
+  if (a.has("unseen") && views.options().synthesis.unseen != o.unseen)
+    throw std::invalid_argument("--unseen " + a.get("unseen") + ": " + a.positional[0] +
+                                " has no landmarks.json with left / right feature pairs");
+  const int w = views.width(), h = views.height();
+  const render::SynthesisOptions& used = views.options().synthesis;
   if (!turntable) {
-    const auto r = synth->render(model.camera(base, yaw, pitch), o);
-    write_image(finished(r.view), out);
+    write_image(views.image(yaw, pitch), out);
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s, unseen side: %s)\n",
-                out.string().c_str(), w, h, yaw, pitch, render::blend_name(o.blend),
-                render::unseen_side_name(o.unseen));
+                out.string().c_str(), w, h, yaw, pitch, render::blend_name(used.blend),
+                render::unseen_side_name(used.unseen));
     return 0;
   }
   std::vector<render::Tile> tiles;
   for (int i = 0; i < turntable; ++i) {
     const double y = -90.0 + 180.0 * i / (turntable - 1);
-    const auto r = synth->render(model.camera(base, y, pitch), o);
+    const reconstruct::FinishedView r = views.view(y, pitch);
     char name[64];
     std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
     const fs::path view = out.parent_path() / (out.stem().string() + name + ext);
-    const cv::Mat shown = finished(r.view);
+    const cv::Mat& shown = r.image;
     write_image(shown, view);
     tiles.push_back({shown.channels() == 3 ? shown : r.view.image,
                      "yaw " + std::to_string(int(std::lround(y)))});

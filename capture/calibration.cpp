@@ -9,6 +9,8 @@
 #include <opencv2/core/eigen.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "capture/stereo_rig.h"
+
 namespace orthoface::capture {
 namespace {
 
@@ -65,29 +67,6 @@ Eigen::Isometry3d to_iso(const cv::Mat& r, const cv::Mat& t) {
   iso.linear() = R;
   iso.translation() = T;
   return iso;
-}
-
-// front_from_head: origin at the midpoint of the shortest segment between the optical axes,
-// z = -(front viewing direction), x = -(side viewing direction) made orthogonal to z.
-Eigen::Isometry3d front_from_head(const Eigen::Isometry3d& side_from_front) {
-  const Eigen::Isometry3d front_from_side = side_from_front.inverse();
-  const Eigen::Vector3d c1 = Eigen::Vector3d::Zero(), d1 = Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d c2 = front_from_side.translation();
-  const Eigen::Vector3d d2 = front_from_side.linear() * Eigen::Vector3d::UnitZ();
-  const double b = d1.dot(d2), denom = 1 - b * b;
-  const Eigen::Vector3d w = c1 - c2;
-  const double s = denom > 1e-9 ? (b * d2.dot(w) - d1.dot(w)) / denom : 0.0;
-  const double t = denom > 1e-9 ? (d2.dot(w) - b * d1.dot(w)) / denom : 0.0;
-  const Eigen::Vector3d origin = 0.5 * ((c1 + s * d1) + (c2 + t * d2));
-  const Eigen::Vector3d z = -d1;
-  const Eigen::Vector3d x = (-d2 - (-d2).dot(z) * z).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();  // columns: head axes in front camera
-  f.linear().col(0) = x;
-  f.linear().col(1) = y;
-  f.linear().col(2) = z;
-  f.translation() = origin;
-  return f;
 }
 
 // Predicted sd (mm) of the side_from_front translation from the shared views: Gauss-Newton
@@ -279,7 +258,7 @@ RigCalibrationReport calibrate_rig(const std::vector<cv::Mat>& front,
           " is not constrained by the " + std::to_string(rep.views_shared) +
           " shared view(s) (predicted sd " + std::to_string(rep.translation_sd_mm[a]) +
           " mm); take more views seen by both cameras, at other positions and angles");
-  const Eigen::Isometry3d f_h = front_from_head(rep.side_from_front);
+  const Eigen::Isometry3d f_h = stereo_axes(rep.side_from_front).front_from_head;
   rep.rig.front.cam_from_head = f_h;
   rep.rig.side.cam_from_head = rep.side_from_front * f_h;
   rep.rig.source = "calibrated from " + std::to_string(front.size()) + " image pairs";

@@ -10,6 +10,7 @@
 
 #include <opencv2/core/eigen.hpp>
 
+#include "capture/stereo_rig.h"
 #include "io/atomic_file.h"
 
 namespace orthoface::capture {
@@ -254,7 +255,14 @@ RigCalibration ideal_rig(int width, int height, double px_per_mm) {
   return rig;
 }
 
-void write_rig(const RigCalibration& rig, const std::string& path) {
+RigFormat parse_rig_format(const std::string& name) {
+  if (name == "orthoface") return RigFormat::Orthoface;
+  if (name == "opencv") return RigFormat::OpenCvStereo;
+  throw std::invalid_argument("rig format must be orthoface or opencv, got '" + name + "'");
+}
+
+void write_rig(const RigCalibration& rig, const std::string& path, RigFormat format) {
+  if (format == RigFormat::OpenCvStereo) return write_opencv_stereo(rig, path);
   // Checked here so OpenCV does not log its own error line before we throw.
   const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
   if (!std::filesystem::is_directory(parent))
@@ -281,8 +289,15 @@ RigCalibration read_rig(const std::string& path) {
     throw std::runtime_error("rig file " + path + ": not valid YAML (" + e.err + ")");
   }
   if (!fs.isOpened()) throw std::runtime_error("rig file " + path + ": cannot be parsed as YAML");
-  if (fs["orthoface_rig"].empty())
-    throw std::runtime_error("rig file " + path + ": missing 'orthoface_rig' version key");
+  if (fs["orthoface_rig"].empty()) {
+    if (!fs["K1"].empty() || !fs["M1"].empty() || !fs["R"].empty()) {
+      fs.release();
+      return read_opencv_stereo(path);
+    }
+    throw std::runtime_error("rig file " + path +
+                             ": missing 'orthoface_rig' version key (and not an OpenCV stereo "
+                             "calibration with K1 D1 K2 D2 R T)");
+  }
   RigCalibration rig;
   try {
     rig.front = read_camera(fs, "front", path);

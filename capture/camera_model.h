@@ -100,10 +100,21 @@ double photographed_side_sign(const RigCalibration& photo_rig);
 // mm), head origin at the image centre. Throws std::invalid_argument on size <= 0 or scale <= 0.
 RigCalibration ideal_rig(int width, int height, double px_per_mm);
 
+// How a rig file is written: Orthoface = our own FileStorage YAML (top-level orthoface_rig,
+// one section per camera with its pose in the head frame); OpenCvStereo = the file an OpenCV
+// cv::stereoCalibrate workflow writes (K1 D1 K2 D2 R T, image size; capture/stereo_rig.h),
+// perspective cameras only.
+enum class RigFormat { Orthoface, OpenCvStereo };
+// "orthoface" / "opencv"; throws std::invalid_argument naming the text otherwise.
+RigFormat parse_rig_format(const std::string& name);
+
 // OpenCV FileStorage YAML (the format `reconstruct --rig` reads and `simulate` / `calibrate`
-// write). write_rig writes all or nothing (io/atomic_file.h). read_rig throws std::runtime_error
-// naming the file and the missing or malformed field.
-void write_rig(const RigCalibration& rig, const std::string& path);
+// write). write_rig writes all or nothing (io/atomic_file.h); std::invalid_argument when
+// `format` cannot hold the rig (write_opencv_stereo). read_rig reads either format (a file
+// without orthoface_rig but with K1/M1 or R is read as an OpenCV stereo file) and throws
+// std::runtime_error naming the file and the missing or malformed field.
+void write_rig(const RigCalibration& rig, const std::string& path,
+               RigFormat format = RigFormat::Orthoface);
 RigCalibration read_rig(const std::string& path);
 
 }  // namespace orthoface::capture

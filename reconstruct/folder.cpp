@@ -62,7 +62,7 @@ nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
   return j;
 }
 
-nlohmann::json report_json(const Reconstruction& r) {
+nlohmann::json report_object(const Reconstruction& r) {
   const ReconstructionReport& rep = r.report;
   nlohmann::json stages = nlohmann::json::object();
   double total = 0;
@@ -100,6 +100,8 @@ nlohmann::json report_json(const Reconstruction& r) {
 
 }  // namespace
 
+std::string report_json(const Reconstruction& r) { return report_object(r).dump(2) + "\n"; }
+
 void write_reconstruction(const Reconstruction& r, const std::string& dir) {
   const fs::path out(dir);
   if (fs::exists(out) && !fs::is_directory(out))
@@ -122,7 +124,7 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());
     vision::write_observation(r.observation, (tmp / "observation.json").string());
     write_json(landmarks_json(r), tmp / "landmarks.json");
-    write_json(report_json(r), tmp / "report.json");
+    write_json(report_object(r), tmp / "report.json");
     fs::create_directories(out);
     for (const auto& e : fs::directory_iterator(tmp))
       fs::rename(e.path(), out / e.path().filename());

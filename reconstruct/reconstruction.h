@@ -121,6 +121,10 @@ Reconstruction from_observation(const vision::FaceObservation& observation, cons
 // all succeeded. Throws std::runtime_error naming the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
 
+// The text of the report.json that write_reconstruction writes (JSON: scale, what was found with
+// confidences, warnings, input check, stage timings, the mesh's size).
+std::string report_json(const Reconstruction& reconstruction);
+
 // A reconstruction folder read back: mesh (welded where the atlas split it; no uvs, no texture:
 // views texture it from the photos), photos, rig,
 // observation, the rig as the photos were taken and the side mask, landmarks when landmarks.json is

@@ -166,7 +166,9 @@ struct FaceLandmarker68::Net {
 
 std::string default_model_dir() {
   if (const char* env = std::getenv("ORTHOFACE_MODELS"); env && *env) return env;
-  return ORTHOFACE_MODEL_DIR;
+  if (std::filesystem::exists(std::filesystem::path(ORTHOFACE_MODEL_DIR) / kManifestFile))
+    return ORTHOFACE_MODEL_DIR;
+  return ORTHOFACE_INSTALLED_MODEL_DIR;
 }
 
 FaceLandmarker68::FaceLandmarker68(const std::string& model_dir) : net_(std::make_unique<Net>()) {

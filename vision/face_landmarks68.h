@@ -15,7 +15,8 @@
 namespace orthoface::vision {
 
 // The folder with face_landmark_68_model.bin and its manifest: $ORTHOFACE_MODELS when set, else
-// the source tree's vision/models (set at build time).
+// the source tree's vision/models when it is there, else the installed copy
+// (<prefix>/share/orthoface/models, the prefix set at build time).
 std::string default_model_dir();
 
 struct FaceLandmarks68 {

@@ -68,9 +68,13 @@ struct FaceObservation {
   // none was found). Not written to observation.json.
   cv::Mat front_blob, side_blob;
   // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
-  // before the consensus replaced any by the filters'; empty when it did not run. The midline
+  // before the consensus replaced any by the filters', with the user's front landmarks
+  // (ObserveOptions::front_landmarks) in their place; empty when neither ran. The midline
   // features above sit on the centre line; these do not, so the head's turn shows in them.
   std::map<std::string, Feature2d> front_trained;
+  // The trained front landmarker's 68 points (iBUG layout, vision/ibug68.h; front pixels) when
+  // it found a plausible face, else empty. Not written to observation.json.
+  std::vector<cv::Point2d> front_points68;
   std::vector<std::string> warnings;  // what is missing or doubtful, for report.json
 };
 

@@ -47,6 +47,13 @@ const char* front_landmarker_name(FrontLandmarker landmarker) {
 void ObserveOptions::check() const {
   if (!(max_size_ratio >= 1.0 && max_size_ratio <= 10.0))
     throw std::invalid_argument("ObserveOptions: max_size_ratio must be in [1, 10]");
+  for (const auto& [name, px] : front_landmarks) {
+    if (!is_landmark_name(name))
+      throw std::invalid_argument("ObserveOptions: front landmark '" + name +
+                                  "' is not a landmark name (vision/landmarks.h)");
+    if (!std::isfinite(px.x) || !std::isfinite(px.y))
+      throw std::invalid_argument("ObserveOptions: front landmark '" + name + "' is not finite");
+  }
 }
 
 namespace {
@@ -58,6 +65,16 @@ constexpr double kClearSideTurn = 0.3;
 
 // Index coordinates -> capture convention (pixel centre = index + 0.5).
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
+
+// The user's front landmarks must lie in the front image (capture convention: 0..width).
+void check_user_landmarks(const ObserveOptions& o, const cv::Mat& front) {
+  for (const auto& [name, px] : o.front_landmarks)
+    if (!(px.x >= 0 && px.y >= 0 && px.x <= front.cols && px.y <= front.rows))
+      throw std::invalid_argument("front landmark '" + name + "' at (" + std::to_string(px.x) +
+                                  ", " + std::to_string(px.y) + ") lies outside the " +
+                                  std::to_string(front.cols) + "x" + std::to_string(front.rows) +
+                                  " front image");
+}
 
 struct SideResult {
   SideProfile profile;  // in the image as given (un-mirrored), index coordinates
@@ -220,6 +237,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   const cv::Mat front = to_bgr8(front_in, "front image");
   const cv::Mat side = to_bgr8(side_in, "side image");
   check_sizes(front, side, o.max_size_ratio);
+  check_user_landmarks(o, front);
   if (same_pixels(front, side))
     throw std::invalid_argument(
         "front image and side image are the same picture; the side view "
@@ -280,6 +298,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
 FaceObservation observe_front(const cv::Mat& front_in, const ObserveOptions& o) {
   o.check();
   const cv::Mat front = to_bgr8(front_in, "front image");
+  check_user_landmarks(o, front);
   const cv::Mat bgf = optional_bgr(o.background_front, front, "front background");
   FaceObservation obs;
   obs.front.width = front.cols, obs.front.height = front.rows;

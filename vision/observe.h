@@ -1,5 +1,6 @@
 #pragma once
 
+#include <map>
 #include <string>
 
 #include <opencv2/core.hpp>
@@ -34,7 +35,12 @@ struct ObserveOptions {
   bool use_haar = false;  // optional: OpenCV Haar cascades (opencv-data) check/initialise eyes
   std::string haar_dir = "/usr/share/opencv4/haarcascades";
   double max_size_ratio = 1.5;  // front / side image heights may differ at most by this factor
-  void check() const;           // throws std::invalid_argument on out-of-range values
+  // The user's front landmarks (names from vision/landmarks.h, front pixels as in the
+  // observation): each replaces the detected feature (confidence 1, method "user") before
+  // stereo and adaptation see it; a given symmetric pair re-fits the centre line. They must lie
+  // in the front image (observe() throws std::invalid_argument otherwise).
+  std::map<std::string, cv::Point2d> front_landmarks;
+  void check() const;  // throws std::invalid_argument on out-of-range values or unknown names
 };
 
 // Seed 004 §4 on a front + side pair: silhouettes, profile, centre line and named features with

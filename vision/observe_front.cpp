@@ -14,6 +14,7 @@
 #include "vision/front_boundary.h"
 #include "vision/front_features.h"
 #include "vision/haar_init.h"
+#include "vision/ibug68.h"
 #include "vision/landmarks.h"
 
 namespace orthoface::vision {
@@ -86,21 +87,29 @@ void haar_assist(const cv::Mat& front, const ObserveOptions& o, FrontFeatures& f
   }
 }
 
-// The trained network's 68 points (iBUG layout; image-left = the subject's right) as the front
-// features, in index coordinates. Image-left eye 36-41, image-right eye 42-47, brows 17-21 and
-// 22-26, nose 27-35, mouth 48-67, chin 8.
-const std::pair<const char*, int> kNetworkPoints[] = {
-    {"eye_right_outer", 36},  {"eye_right_inner", 39},  {"eye_left_inner", 42},
-    {"eye_left_outer", 45},   {"brow_right_outer", 17}, {"brow_right_center", 19},
-    {"brow_right_inner", 21}, {"brow_left_inner", 22},  {"brow_left_center", 24},
-    {"brow_left_outer", 26},  {"mouth_right", 48},      {"mouth_left", 54},
-    {"alar_right", 31},       {"alar_left", 35},        {"nose_bridge", 27},
-    {"nose_tip", 30},         {"subnasale", 33},        {"lip_upper", 51},
-    {"lip_lower", 57},        {"chin_bottom", 8}};
-
-// The chin (its most forward point, seed 004's profile chin) lies this share of the way from
-// the lower lip down to the chin's bottom (sim heads: 0.84).
-constexpr double kChinShare = 0.8;
+// The centre line through the midpoints of the eye centres, mouth corners and nose wings (each
+// pair where both are in `f`), roll from the eye centres; none without both eye centres.
+std::optional<CentreLine> centre_from_pairs(const std::map<std::string, Feature2d>& f) {
+  const Feature2d* eye_r = find_feature(f, "eye_right_center");
+  const Feature2d* eye_l = find_feature(f, "eye_left_center");
+  if (!eye_r || !eye_l || eye_l->px.x == eye_r->px.x) return std::nullopt;
+  cv::Point2d mid(0, 0);
+  int pairs = 0;
+  for (const auto& [r, l] :
+       {std::pair<const char*, const char*>{"eye_right_center", "eye_left_center"},
+        {"mouth_right", "mouth_left"},
+        {"alar_right", "alar_left"}}) {
+    const Feature2d* a = find_feature(f, r);
+    const Feature2d* b = find_feature(f, l);
+    if (a && b) mid += (a->px + b->px) / 2, ++pairs;
+  }
+  CentreLine c;
+  c.centre_x = mid.x / pairs;
+  c.centre_y = mid.y / pairs;
+  c.roll_rad = std::atan(-(eye_l->px.y - eye_r->px.y) / (eye_l->px.x - eye_r->px.x));
+  c.confidence = 1.0;
+  return c;
+}
 
 // A square around where the face should be in the head blob, for when the Haar cascade finds
 // none: centred on the boundary's middle at 60 % of its height, 0.8 head widths wide.
@@ -118,7 +127,7 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 // was (with a warning) when the weights cannot be read or no plausible face is found.
 void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
                        FrontFeatures& ff, std::map<std::string, Feature2d>& trained,
-                       std::vector<std::string>& warn) {
+                       std::vector<cv::Point2d>& points68, std::vector<std::string>& warn) {
   const FaceLandmarker68* net = shared_landmarker();
   if (!net) {
     warn.push_back("front landmarks: the network's weights are missing (" + default_model_dir() +
@@ -154,23 +163,13 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
     return f;
   };
   const FrontFeatures filters = ff;
-  for (const auto& [name, k] : kNetworkPoints) ff.features[name] = feature(p[k]);
-  cv::Point2d eye_r(0, 0), eye_l(0, 0);
-  for (int k = 0; k < 6; ++k) eye_r += p[36 + k] / 6.0, eye_l += p[42 + k] / 6.0;
-  ff.features["eye_right_center"] = feature(eye_r);
-  ff.features["eye_left_center"] = feature(eye_l);
-  ff.features["chin"] = feature(p[57] + kChinShare * (p[8] - p[57]));
-  // Centre line through the midpoints of the eyes, mouth corners and nose wings, roll from the
-  // eyes.
-  const cv::Point2d mid =
-      ((eye_r + eye_l) / 2 + (p[48] + p[54]) / 2 + (p[31] + p[35]) / 2) / 3.0 - half;
-  ff.centre.centre_x = mid.x;
-  ff.centre.centre_y = mid.y;
-  ff.centre.roll_rad = std::atan(-(eye_l.y - eye_r.y) / (eye_l.x - eye_r.x));
-  ff.centre.confidence = 1.0;
-  for (const auto& [name, k] : kNetworkPoints) trained[name] = ff.features[name];
-  for (const char* name : {"eye_right_center", "eye_left_center", "chin"})
-    trained[name] = ff.features[name];
+  Ibug68 all;
+  std::copy(p.begin(), p.end(), all.begin());
+  for (const auto& [name, q] : named_from_ibug68(all))
+    trained[name] = ff.features[name] = feature(q);
+  if (const auto c = centre_from_pairs(ff.features)) ff.centre = *c;
+  points68.assign(p.begin(), p.end());
+  const cv::Point2d mid(ff.centre.centre_x, ff.centre.centre_y);
   if (o.landmarker != FrontLandmarker::Consensus) return;
   // Consensus: a filters' point the network confirms is kept (it sits on the photo's own edge);
   // the midline keeps the profile's rows, so the two photos agree on its heights.
@@ -194,6 +193,26 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   const double filters_x = filters.centre.centre_x +
                            std::tan(filters.centre.roll_rad) * (mid.y - filters.centre.centre_y);
   if (std::abs(filters_x - mid.x) < tol) ff.centre = filters.centre;
+}
+
+// The user's front landmarks (options.front_landmarks, capture convention) replace the detected
+// ones, in the features and in `trained` (both the features' true positions, which head-turn
+// estimation and the input check read). When they give a symmetric pair the centre line uses,
+// it is re-fitted through the pairs as the network's is, so the midline follows the user.
+void user_landmarks(const ObserveOptions& o, FrontFeatures& ff,
+                    std::map<std::string, Feature2d>& trained) {
+  bool pair_given = false;
+  for (const auto& [name, px] : o.front_landmarks) {
+    Feature2d f;
+    f.px = px - cv::Point2d(0.5, 0.5);  // index coordinates, as ff
+    f.confidence = 1.0;
+    f.method = "user";
+    ff.features[name] = trained[name] = f;
+    for (const char* n : {"eye_right_center", "mouth_right", "alar_right"})
+      if (name == n && o.front_landmarks.count(mirrored_name(n))) pair_given = true;
+  }
+  if (!pair_given) return;
+  if (const auto c = centre_from_pairs(ff.features)) ff.centre = *c;
 }
 
 }  // namespace
@@ -237,7 +256,9 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   FrontFeatures ff = front_features(front, fb, rows, H);
   if (o.use_haar && o.landmarker != FrontLandmarker::Network) haar_assist(front, o, ff, warn);
   std::map<std::string, Feature2d> trained;
-  if (o.landmarker != FrontLandmarker::Filters) network_landmarks(front, fb, o, ff, trained, warn);
+  if (o.landmarker != FrontLandmarker::Filters)
+    network_landmarks(front, fb, o, ff, trained, obs.front_points68, warn);
+  if (!o.front_landmarks.empty()) user_landmarks(o, ff, trained);
   for (const auto& w : ff.warnings) warn.push_back(w);
   for (const auto& p : fb.left) obs.front.boundary.push_back(out_px(p));
   for (const auto& p : fb.right) obs.front.boundary.push_back(out_px(p));

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <map>
 
+#include <nlohmann/json.hpp>
+
 #include "sim/head.h"
 #include "sim/scan.h"
 #include "tests/analysis/analysis_test_meshes.h"
@@ -146,6 +148,33 @@ TEST(Mpeg4Features, BadInputThrows) {
   o = {};
   o.dense_area = 0.0;
   EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
+// features.json's layout (the command line and Python both use it): the key vertices at their
+// mesh positions, every point, the missing list; an index outside the mesh is refused.
+TEST(Mpeg4Features, ReportJsonHoldsTheReportAndRefusesForeignIndices) {
+  const sim::Head h = sim::make_head(0);
+  const FeatureReport r = mpeg4_features(h.mesh);
+  ASSERT_TRUE(r.nose_tip.has_value());
+  const nlohmann::json j = nlohmann::json::parse(feature_report_json(h.mesh, r));
+  EXPECT_EQ(j["key_vertices"]["P4_nose_tip"]["vertex"], *r.nose_tip);
+  EXPECT_DOUBLE_EQ(j["key_vertices"]["P4_nose_tip"]["position"][1].get<double>(),
+                   h.mesh.vertices[*r.nose_tip].y());
+  EXPECT_EQ(j["feature_points"].size(), r.points.size());
+  EXPECT_EQ(j["missing"].size(), r.missing.size());
+  EXPECT_EQ(j.contains("axes"), r.axes_found);
+  const FeatureReport none = mpeg4_features(testing::icosphere(4, 100.0));
+  const nlohmann::json k =
+      nlohmann::json::parse(feature_report_json(testing::icosphere(4, 100.0), none));
+  EXPECT_TRUE(k["key_vertices"]["P1_ear_left"].is_null());
+  EXPECT_FALSE(k.contains("axes"));
+  FeatureReport foreign = r;
+  foreign.nose_tip = int(h.mesh.vertices.size());
+  EXPECT_THROW(feature_report_json(h.mesh, foreign), std::invalid_argument);
+  foreign = r;
+  ASSERT_FALSE(foreign.points.empty());
+  foreign.points[0].vertex = -1;
+  EXPECT_THROW(feature_report_json(h.mesh, foreign), std::invalid_argument);
 }
 
 TEST(GeodesicEuclideanRatio, FoldIsHighPlaneIsOne) {

@@ -12,9 +12,12 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "capture/camera_model.h"
 #include "mesh/mesh_io.h"
+#include "sim/truth_json.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
+#include "vision/pts_io.h"
 
 namespace orthoface::app {
 namespace {
@@ -127,6 +130,77 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   cv::imwrite((*work_ / "blank.png").string(),
               cv::Mat(480, 640, CV_8UC3, cv::Scalar(200, 200, 200)));
   expect_clean_error("reconstruct --front blank.png --side blank.png --out bad_out", "");
+}
+
+// iBUG .pts landmarks of the true front pixels replace detection: the model is no worse, the
+// observation says "user", and `detect --pts` writes the detected ones in the same form.
+TEST_F(Reconstruct, FrontLandmarksFromAPtsFileReplaceDetection) {
+  const sim::Truth truth = sim::read_truth_json((*work_ / "sim" / "landmarks.json").string());
+  vision::Ibug68 pts;
+  for (const auto& [name, k] : vision::kIbug68Landmarks) {
+    const auto it = truth.landmarks.find(std::string(name));
+    if (it != truth.landmarks.end() && it->second.visible_front)
+      pts[k] = cv::Point2d(it->second.front_px.x(), it->second.front_px.y());
+  }
+  vision::write_pts(pts, (*work_ / "truth.pts").string());
+  const std::string pair =
+      "reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml ";
+  ASSERT_EQ(run(pair + "--out rec_detected", *work_).code, 0);
+  const Result r = run(pair + "--front-landmarks truth.pts --out rec_user", *work_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("front landmarks: "), std::string::npos) << r.out;
+  double mean_mm[2], relative[2];
+  for (int i = 0; i < 2; ++i) {
+    const std::string dir = i == 0 ? "rec_detected" : "rec_user";
+    ASSERT_EQ(run("eval " + dir + " --truth sim", *work_).code, 0);
+    const auto ev = nlohmann::json::parse(slurp(*work_ / dir / "eval.json"));
+    mean_mm[i] = ev["landmark_mean_mm"].get<double>();
+    relative[i] = ev["relative_error"].get<double>();
+  }
+  EXPECT_LE(mean_mm[1], mean_mm[0] + 0.05) << "user " << mean_mm[1] << " detected " << mean_mm[0];
+  EXPECT_LE(relative[1], relative[0] * 1.02 + 1e-4);
+  const auto obs = nlohmann::json::parse(slurp(*work_ / "rec_user" / "observation.json"));
+  EXPECT_EQ(obs["front"]["features"]["nose_tip"]["method"], "user");
+  EXPECT_EQ(obs["front"]["features"]["eye_left_outer"]["x"].get<double>(), pts[45]->x);
+
+  const Result d =
+      run("detect --front sim/front.png --side sim/side.png --out det --pts det/f.pts", *work_);
+  ASSERT_EQ(d.code, 0) << d.err;
+  const vision::Ibug68 found = vision::read_pts((*work_ / "det" / "f.pts").string());
+  int known = 0;
+  for (const auto& p : found) known += p.has_value();
+  EXPECT_GE(known, 14);
+  expect_clean_error(
+      "detect --front sim/front.png --side sim/side.png --out bad_out --pts "
+      "nowhere/f.pts",
+      "nowhere");
+}
+
+TEST_F(Reconstruct, BadFrontLandmarksGiveOneErrorLine) {
+  const std::string ok = "reconstruct --front sim/front.png --side sim/side.png --out bad_out ";
+  expect_clean_error(ok + "--front-landmarks missing.pts", "missing.pts");
+  std::ofstream(*work_ / "short.pts") << "version: 1\nn_points: 68\n{\n1 2\n}\n";
+  expect_clean_error(ok + "--front-landmarks short.pts", "short.pts");
+  vision::Ibug68 far;
+  far[30] = cv::Point2d(10, 900);  // below the 640x480 photo
+  vision::write_pts(far, (*work_ / "far.pts").string());
+  expect_clean_error(ok + "--front-landmarks far.pts", "far.pts");
+}
+
+// An OpenCV stereo calibration file of the sim's perspective rig works as --rig.
+TEST_F(Reconstruct, AnOpenCvStereoFileIsARig) {
+  ASSERT_EQ(run("simulate --subject 2 --rig perspective --out simp", *work_).code, 0);
+  const capture::RigCalibration rig = capture::read_rig((*work_ / "simp" / "rig.yaml").string());
+  capture::write_rig(rig, (*work_ / "stereo.yml").string(), capture::RigFormat::OpenCvStereo);
+  const Result r =
+      run("reconstruct --front simp/front.png --side simp/side.png --rig stereo.yml --out rec_cv",
+          *work_);
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_EQ(run("eval rec_cv --truth simp", *work_).code, 0);
+  const auto ev = nlohmann::json::parse(slurp(*work_ / "rec_cv" / "eval.json"));
+  EXPECT_LT(ev["relative_error"].get<double>(), 0.01);
+  expect_clean_error("calibrate --front-images a --side-images b --out r.yaml --rig-format colmap",
+                     "--rig-format");
 }
 
 // A wrong pair (the photos swapped) is refused by the input check with exit 3 and one line

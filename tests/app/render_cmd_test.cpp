@@ -122,6 +122,11 @@ TEST(RenderCommand, UnseenSideUsesTheLandmarksMidPlane) {
   fs::remove(work / "rec" / "landmarks.json");
   ASSERT_EQ(run("render rec --yaw -80 -o fallback.png", work), 0) << slurp(work / "err.txt");
   EXPECT_NE(slurp(work / "out.txt").find("unseen side: front"), std::string::npos);
+  // An explicit --unseen that needs the mid-plane is refused instead.
+  EXPECT_EQ(run("render rec --yaw -80 --unseen texture -o refused.png", work), 1);
+  EXPECT_EQ(slurp(work / "err.txt"),
+            "error: --unseen texture: rec has no landmarks.json with left / right feature pairs\n");
+  EXPECT_FALSE(fs::exists(work / "refused.png"));
 }
 
 // By default a view is drawn into the front photo's own scene, the head removed from it.

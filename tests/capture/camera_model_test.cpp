@@ -9,12 +9,14 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/capture/same_camera.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::capture {
 namespace {
 
 namespace fs = std::filesystem;
+using orthoface::testing::expect_same_camera;
 
 std::string bad_input(const std::string& name) {
   return std::string(ORTHOFACE_SOURCE_DIR) + "/tests/data/bad_inputs/" + name;
@@ -168,18 +170,6 @@ TEST(IdealRig, RejectsBadSizeAndScale) {
   EXPECT_THROW(ideal_rig(640, 480, NAN), std::invalid_argument);
   const RigCalibration tiny = ideal_rig(1, 1, 1.0);  // degenerate but valid
   EXPECT_NEAR(project(tiny.front, Eigen::Vector3d::Zero()).x(), 0.5, 1e-12);
-}
-
-void expect_same_camera(const CameraModel& a, const CameraModel& b) {
-  EXPECT_EQ(a.projection, b.projection);
-  EXPECT_EQ(a.width, b.width);
-  EXPECT_EQ(a.height, b.height);
-  EXPECT_DOUBLE_EQ(a.fx, b.fx);
-  EXPECT_DOUBLE_EQ(a.fy, b.fy);
-  EXPECT_DOUBLE_EQ(a.cx, b.cx);
-  EXPECT_DOUBLE_EQ(a.cy, b.cy);
-  EXPECT_EQ(a.distortion, b.distortion);
-  EXPECT_TRUE(a.cam_from_head.matrix().isApprox(b.cam_from_head.matrix(), 1e-12));
 }
 
 TEST(RigFile, RoundTripsIdealAndPerspectiveRigs) {
