@@ -50,8 +50,12 @@ void write_camera(cv::FileStorage& fs, const std::string& key, const CameraModel
 cv::Mat read_matrix(const cv::FileNode& n, const std::string& name,
                     const std::function<void(const std::string&)>& fail) {
   cv::Mat m;
+  if (n[name].empty()) return m;  // the caller says it is missing
   try {
+    check_matrix_node(n[name]);
     n[name] >> m;
+  } catch (const std::invalid_argument& e) {
+    fail(name + " " + e.what());
   } catch (const cv::Exception&) {
     fail(name + " is not a well-formed matrix");
   }

@@ -37,7 +37,10 @@ cv::Mat read_mat(const cv::FileStorage& fs, const std::string& name, const std::
   if (n.empty()) fail(alt.empty() ? name : name + " (or " + alt + ")", "missing");
   cv::Mat m;
   try {
+    check_matrix_node(n);
     n >> m;
+  } catch (const std::invalid_argument& e) {
+    fail(key, e.what());
   } catch (const cv::Exception&) {
     fail(key, "is not a well-formed matrix");
   }
@@ -269,6 +272,20 @@ RigCalibration read_opencv_stereo(const std::string& path) {
   }
   rig.source = path;
   return rig;
+}
+
+void check_matrix_node(const cv::FileNode& n) {
+  if (!n.isMap())
+    throw std::invalid_argument("is not a matrix (!!opencv-matrix with rows, cols, data)");
+  const cv::FileNode rows = n["rows"], cols = n["cols"], data = n["data"];
+  if (!rows.isInt() || !cols.isInt())
+    throw std::invalid_argument("needs whole numbers for rows and cols");
+  const int r = int(rows), c = int(cols);
+  if (r < 1 || r > 16 || c < 1 || c > 16)
+    throw std::invalid_argument("is " + std::to_string(r) + " x " + std::to_string(c) +
+                                "; a rig matrix has 1..16 rows and columns");
+  if (!data.isSeq() || data.size() != size_t(r) * size_t(c))
+    throw std::invalid_argument("needs " + std::to_string(r * c) + " data values (rows x cols)");
 }
 
 }  // namespace orthoface::capture

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <Eigen/Geometry>
+#include <opencv2/core/persistence.hpp>
 
 #include "capture/camera_model.h"
 
@@ -51,5 +52,11 @@ void write_opencv_stereo(const RigCalibration& rig, const std::string& path);
 // std::runtime_error naming the file and the field that is missing, of the wrong shape,
 // non-finite, absurd, not a rotation, or whose axes do not meet.
 RigCalibration read_opencv_stereo(const std::string& path);
+
+// A rig file's matrix node checked before OpenCV reads it (OpenCV allocates rows x cols as the
+// file says, gigabytes for a corrupt size): an !!opencv-matrix with integer rows and cols of
+// 1..16 each and exactly rows x cols data values. Throws std::invalid_argument saying what is
+// wrong (the caller names the file and field).
+void check_matrix_node(const cv::FileNode& node);
 
 }  // namespace orthoface::capture

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -22,6 +23,13 @@ namespace orthoface::mesh::io {
 namespace {
 
 constexpr int kMaxNodeDepth = 1000;  // deeper hierarchies are refused, not recursed into
+
+// A number read from the file, for a message: any double (NaN, huge) prints.
+std::string number_text(double v) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.17g", v);
+  return text;
+}
 
 // tinygltf's file access, kept to regular files (no devices, no ~ or $VAR expansion).
 bool file_exists(const std::string& path, void*) {
@@ -229,8 +237,8 @@ class Scene {
         std::array<int, 3> t;
         for (int q = 0; q < 3; ++q) {
           if (!(idx[k + q] >= 0 && idx[k + q] < double(n)))
-            fail(path_, "index " + std::to_string(static_cast<long>(idx[k + q])) +
-                            " out of range (" + std::to_string(n) + " vertices)");
+            fail(path_, "index " + number_text(idx[k + q]) + " out of range (" + std::to_string(n) +
+                            " vertices)");
           t[q] = static_cast<int>(base + size_t(idx[k + q]));
         }
         m.triangles.push_back(t);

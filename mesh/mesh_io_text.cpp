@@ -73,7 +73,8 @@ TriMesh read_off(const std::string& path) {
     if (!next_tokens(in, tok, line_no))
       fail(path, "truncated: " + std::to_string(f) + " faces read");
     const double n = number(tok[0], path, line_no);
-    if (n < 3 || n != std::floor(n) || tok.size() < 1 + static_cast<size_t>(n))
+    // Compared as doubles first: a count beyond size_t would make the cast undefined.
+    if (!(n >= 3 && n <= double(tok.size() - 1)) || n != std::floor(n))
       fail(path, "line " + std::to_string(line_no) + ": bad face");
     std::vector<int> poly;
     for (int k = 1; k <= static_cast<int>(n); ++k) {

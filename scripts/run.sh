@@ -4,6 +4,9 @@
 #   scripts/run.sh test       install what is missing, check the formatting, build (Release),
 #                             run every test
 #   scripts/run.sh sanitize   the same tests built with AddressSanitizer + UBSan (build-asan/)
+#   scripts/run.sh fuzz [S]   every libFuzzer target of fuzz/ (clang, ASan + UBSan, build-fuzz/)
+#                             for S seconds each (default 60) from its seed corpus; fails on any
+#                             crash, hang, leak of memory or sanitizer report
 #   scripts/run.sh build      install + build only
 # Release builds treat compiler warnings in our code as errors (ORTHOFACE_STRICT); the sanitizer
 # build does not (its -O2 -g code generation warns differently and is not what users run).
@@ -40,8 +43,8 @@ check_format() {
 }
 
 case "$job" in
-  demo|test|sanitize|build) ;;
-  *) echo "error: unknown job '$job' (expected demo, test, sanitize or build)" >&2; exit 2 ;;
+  demo|test|sanitize|fuzz|build) ;;
+  *) echo "error: unknown job '$job' (expected demo, test, sanitize, fuzz or build)" >&2; exit 2 ;;
 esac
 
 "$root/scripts/install-deps.sh"
@@ -69,5 +72,38 @@ case "$job" in
     ASAN_OPTIONS="detect_leaks=0:verify_asan_link_order=0:abort_on_error=1" \
     UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1" \
       ctest --test-dir "$root/build-asan" --output-on-failure --no-tests=error -j "$jobs" "$@"
+    ;;
+  fuzz)
+    seconds="${1:-60}"
+    CC=clang CXX=clang++ cmake -S "$root" -B "$root/build-fuzz" -G Ninja \
+      -DCMAKE_BUILD_TYPE=RelWithDebInfo -DORTHOFACE_FUZZ=ON -DORTHOFACE_BUILD_TESTS=OFF \
+      -DORTHOFACE_BUILD_BENCH=OFF >/dev/null
+    cmake --build "$root/build-fuzz" -j "$jobs" --target fuzz_targets
+    # Each target on a copy of its seeds (the committed corpus stays as it is); a finding is
+    # written to build-fuzz/findings/ and fails the job. $jobs targets at a time.
+    work="$root/build-fuzz/findings"
+    rm -rf "$work" && mkdir -p "$work"
+    run_one() {
+      local t="$1" corpus="$work/corpus-$1"
+      mkdir -p "$corpus"
+      if "$root/build-fuzz/fuzz/fuzz_$t" -max_total_time="$seconds" -timeout=10 \
+           -rss_limit_mb=2048 -print_final_stats=1 -artifact_prefix="$work/$t-" \
+           "$corpus" "$root/fuzz/corpus/$t" >"$work/$t.log" 2>&1; then
+        echo "fuzz_$t: $(grep -m1 -o 'stat::number_of_executed_units: *[0-9]*' "$work/$t.log" |
+                         grep -o '[0-9]*$') runs, no finding"
+      else
+        echo "error: fuzz_$t found a defect ($work/$t.log; input: $(ls "$work/$t-"* 2>/dev/null))" >&2
+        grep -E "^(==[0-9]+==ERROR|SUMMARY)|runtime error" "$work/$t.log" | head -5 >&2
+        return 1
+      fi
+    }
+    failed=0
+    targets=(obj ply off gltf glb mtl rig json pts image)
+    for ((i = 0; i < ${#targets[@]}; i += jobs)); do
+      pids=()
+      for t in "${targets[@]:i:jobs}"; do run_one "$t" & pids+=($!); done
+      for p in "${pids[@]}"; do wait "$p" || failed=1; done
+    done
+    exit "$failed"
     ;;
 esac

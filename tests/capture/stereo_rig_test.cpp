@@ -137,6 +137,31 @@ TEST(StereoRig, WritingAnOrthographicRigOrToAMissingFolderThrows) {
 }
 
 // Each bad file gives one std::runtime_error naming the file and the field.
+// A matrix whose size line is corrupt ("cols: cols: 3", found by fuzz_rig) made OpenCV allocate
+// 17 GB; the size is now checked first, in both rig formats.
+TEST(StereoRig, CorruptMatrixSizesAreRefusedBeforeAllocating) {
+  const std::string path =
+      std::string(ORTHOFACE_SOURCE_DIR) + "/fuzz/corpus/rig/regress_corrupt_matrix_size.yaml";
+  try {
+    read_rig(path);
+    ADD_FAILURE() << "read";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("D1"), std::string::npos) << e.what();
+  }
+  cv::FileStorage fs(
+      "%YAML:1.0\n---\nbig: !!opencv-matrix\n   rows: 100000\n   cols: 100000\n   dt: d\n"
+      "   data: [ 1. ]\nshort: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n"
+      "   data: [ 1., 2., 3. ]\nok: !!opencv-matrix\n   rows: 2\n   cols: 2\n   dt: d\n"
+      "   data: [ 1., 2., 3., 4. ]\ntext: [ 1, 2 ]\n",
+      cv::FileStorage::READ | cv::FileStorage::MEMORY);
+  EXPECT_THROW(check_matrix_node(fs["big"]), std::invalid_argument);
+  EXPECT_THROW(check_matrix_node(fs["short"]), std::invalid_argument);
+  EXPECT_THROW(check_matrix_node(fs["text"]), std::invalid_argument);
+  EXPECT_THROW(check_matrix_node(fs["absent"]), std::invalid_argument);
+  EXPECT_NO_THROW(check_matrix_node(fs["ok"]));
+}
+
 TEST(StereoRig, BadFilesThrowNamingTheFileAndField) {
   const fs::path dir = testing::temp_dir("stereo_rig_bad");
   const std::string k =

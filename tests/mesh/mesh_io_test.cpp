@@ -309,6 +309,20 @@ TEST(MeshIo, BadInputFilesGiveErrorsNamingTheFile) {
   EXPECT_EQ(topology_report(nm).non_manifold_edges, 1);
 }
 
+// Inputs the fuzz targets found (fuzz/corpus/*/regress_*): refused with an error, not undefined
+// behaviour (a face size beyond size_t cast from double; a NaN index printed through a cast).
+TEST(MeshIo, FuzzFindingsAreRefused) {
+  const fs::path corpus = fs::path(ORTHOFACE_SOURCE_DIR) / "fuzz/corpus";
+  const std::pair<const char*, const char*> cases[] = {
+      {"off/regress_face_count_beyond_size_t.off", "bad face"},
+      {"glb/regress_nan_index.glb", "index -nan out of range"}};
+  for (const auto& [file, what] : cases) {
+    const std::string msg = error_of((corpus / file).string());
+    EXPECT_NE(msg.find(fs::path(file).filename().string()), std::string::npos) << msg;
+    EXPECT_NE(msg.find(what), std::string::npos) << file << ": " << msg;
+  }
+}
+
 TEST(MeshIo, MissingFilesAndUnknownFormats) {
   const auto dir = testing::temp_dir("mesh_io_missing");
   EXPECT_NE(error_of((dir / "none.obj").string()).find("does not exist"), std::string::npos);
