@@ -90,6 +90,16 @@ void check_output_folder(const fs::path& out, const std::string& flag) {
                                 out.parent_path().string() + " does not exist");
 }
 
+// Refuses an output that would replace one of the reconstruction folder's own files (render
+// reads them; a view written over front.png would destroy the model's photo).
+void refuse_folder_file(const fs::path& out, const fs::path& dir, const std::string& flag) {
+  std::error_code ec;
+  for (const char* name : reconstruct::kFolderFiles)
+    if (fs::exists(dir / name) && fs::equivalent(out, dir / name, ec))
+      throw std::invalid_argument(flag + " " + out.string() + " is the reconstruction's own " +
+                                  name + "; write the output elsewhere");
+}
+
 void export_mesh(const reconstruct::Reconstruction& f, const fs::path& path, bool equalize) {
   render::InheritOptions o;
   o.equalize = equalize;
@@ -123,6 +133,7 @@ int run_render(int argc, char** argv) {
       throw std::invalid_argument("--export " + e.string() +
                                   ": expected a .obj, .glb or .ply file");
     check_output_folder(e, "--export");
+    refuse_folder_file(e, a.positional[0], "--export");
   }
   if (view_wanted && !a.has("o")) throw std::invalid_argument("render: missing -o FILE");
   if (!view_wanted && !a.has("export"))
@@ -155,6 +166,7 @@ int run_render(int argc, char** argv) {
       throw std::invalid_argument("--background transparent needs a .png output, not " +
                                   out.string());
     check_output_folder(out, "-o");
+    refuse_folder_file(out, a.positional[0], "-o");
   }
   if (a.has("size"))
     std::tie(vo.width, vo.height) = to_size("size", a.get("size"), render::kMaxRenderSize);
@@ -192,7 +204,11 @@ int run_render(int argc, char** argv) {
     const double y = -90.0 + 180.0 * i / (turntable - 1);
     const reconstruct::FinishedView r = views.view(y, pitch);
     char name[64];
-    std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
+    // Whole degrees name up to 181 views apart; more views are closer than a degree.
+    if (turntable <= 181)
+      std::snprintf(name, sizeof(name), "_yaw%+04d", int(std::lround(y)));
+    else
+      std::snprintf(name, sizeof(name), "_yaw%+06.1f", y);
     const fs::path view = out.parent_path() / (out.stem().string() + name + ext);
     const cv::Mat& shown = r.image;
     write_image(shown, view);

@@ -2,6 +2,8 @@
 // (model), and the reconstruction folder, written and read here only.
 #pragma once
 
+#include <array>
+
 #include <limits>
 #include <map>
 #include <memory>
@@ -120,6 +122,21 @@ Reconstruction from_observation(const vision::FaceObservation& observation, cons
 // written into a hidden staging folder beside DIR (io::temp_path_for) and moved into DIR only when
 // all succeeded. Throws std::runtime_error naming the file that failed (DIR is then untouched).
 void write_reconstruction(const Reconstruction& reconstruction, const std::string& dir);
+
+// Every file name write_reconstruction may write into the folder: what commands reading a folder
+// must not overwrite with their own output.
+inline constexpr std::array<const char*, 12> kFolderFiles = {"head.obj",
+                                                             "head.mtl",
+                                                             "head.png",
+                                                             "front.png",
+                                                             "side.png",
+                                                             "rig.yaml",
+                                                             "landmarks.json",
+                                                             "observation.json",
+                                                             "report.json",
+                                                             "silhouette_front.png",
+                                                             "silhouette_side.png",
+                                                             "background_front.png"};
 
 // The text of the report.json that write_reconstruction writes (JSON: scale, what was found with
 // confidences, warnings, input check, stage timings, the mesh's size).

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -122,6 +123,25 @@ TEST(RenderCommand, UnseenSideUsesTheLandmarksMidPlane) {
   fs::remove(work / "rec" / "landmarks.json");
   ASSERT_EQ(run("render rec --yaw -80 -o fallback.png", work), 0) << slurp(work / "err.txt");
   EXPECT_NE(slurp(work / "out.txt").find("unseen side: front"), std::string::npos);
+  // The folder's own files are never replaced by an output.
+  for (const char* own : {"rec/front.png", "rec/side.png", "./rec/../rec/front.png"}) {
+    const auto before = fs::last_write_time(work / own);
+    EXPECT_EQ(run(std::string("render rec --yaw 10 -o ") + own, work), 1) << own;
+    EXPECT_NE(slurp(work / "err.txt").find("is the reconstruction's own"), std::string::npos)
+        << slurp(work / "err.txt");
+    EXPECT_EQ(fs::last_write_time(work / own), before) << own;
+  }
+  EXPECT_EQ(run("render rec --export rec/head.obj", work), 1);
+  EXPECT_NE(slurp(work / "err.txt").find("head.obj"), std::string::npos);
+  // More than 181 views are closer than a degree: each still gets a file of its own.
+  fs::create_directories(work / "turn");
+  ASSERT_EQ(run("render rec --turntable 200 --size 40x30 --no-float --head face --background "
+                "black -o turn/t.png",
+                work),
+            0)
+      << slurp(work / "err.txt");
+  EXPECT_EQ(std::distance(fs::directory_iterator(work / "turn"), fs::directory_iterator()), 201);
+  EXPECT_TRUE(fs::exists(work / "turn/t_yaw-090.0.png"));
   // An explicit --unseen that needs the mid-plane is refused instead.
   EXPECT_EQ(run("render rec --yaw -80 --unseen texture -o refused.png", work), 1);
   EXPECT_EQ(slurp(work / "err.txt"),
