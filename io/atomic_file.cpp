@@ -32,6 +32,12 @@ std::string temp_path_for(const std::string& path) {
 
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write) {
+  // The rename would replace whatever is there: a device node, a socket or a folder's link is
+  // not a file to overwrite.
+  std::error_code st;
+  const fs::file_status status = fs::symlink_status(path, st);
+  if (!st && fs::exists(status) && !fs::is_regular_file(status))
+    throw std::runtime_error("cannot write " + path + ": it exists and is not a regular file");
   const std::string tmp = temp_path_for(path);
   try {
     write(tmp);

@@ -19,6 +19,8 @@ std::string temp_path_for(const std::string& path);
 // `write(tmp)` writes the whole file at `tmp` (temp_path_for(path)); it is then renamed onto
 // `path`. When `write` throws, or the rename fails, the temporary is removed and
 // std::runtime_error is thrown: "cannot write PATH: REASON" (`write`'s own message as reason).
+// A `path` that exists as anything but a regular file (a device node, a folder, a symbolic link)
+// is refused before anything is written.
 void write_atomically(const std::string& path,
                       const std::function<void(const std::string& tmp)>& write);
 

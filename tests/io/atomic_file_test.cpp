@@ -1,5 +1,7 @@
 #include "io/atomic_file.h"
 
+#include <sys/stat.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -95,6 +97,28 @@ TEST(AtomicFile, FailuresLeaveTheOldFileAndNoTemporary) {
   EXPECT_TRUE(fs::is_directory(dir / "folder"));
   expect_only(dir, {"out.txt", "folder"});
   fs::remove_all(dir);
+}
+
+// A device node, a folder or a link at the target is never replaced by the rename.
+TEST(AtomicFile, NonRegularTargetsAreRefusedAndLeftAsTheyAre) {
+  const fs::path dir = testing::temp_dir("atomic_special");
+  fs::create_directories(dir / "folder.png");
+  fs::create_symlink(dir / "elsewhere.txt", dir / "link.txt");
+  ASSERT_EQ(::mkfifo((dir / "fifo.txt").c_str(), 0600), 0);  // a special file, as a device is
+  for (const fs::path& target : {dir / "folder.png", dir / "link.txt", dir / "fifo.txt"}) {
+    try {
+      write_text_atomically(target.string(), "x");
+      ADD_FAILURE() << target;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(fs::is_directory(dir / "folder.png"));
+  EXPECT_TRUE(fs::is_symlink(dir / "link.txt"));
+  EXPECT_FALSE(fs::exists(dir / "elsewhere.txt"));
+  EXPECT_TRUE(fs::is_fifo(dir / "fifo.txt"));
+  EXPECT_THROW(write_image_atomically((dir / "folder.png").string(), cv::Mat(4, 4, CV_8UC3)),
+               std::runtime_error);
 }
 
 TEST(AtomicFile, BadImagesAndMissingFoldersThrow) {
