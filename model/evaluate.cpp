@@ -34,17 +34,32 @@ Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Eigen::Vecto
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-// Uniform grid over the triangles for nearest-surface queries.
+// Uniform grid over the triangles for nearest-surface queries. Cells are counted from the mesh's
+// bounding-box corner and are at least 1/kMaxCells of its extent, so any geometry (two tiny
+// triangles a kilometre apart) gives a grid of at most kMaxCells per axis, and a query searches
+// only the rings that reach the grid.
 class SurfaceGrid {
  public:
+  static constexpr int kMaxCells = 256;
+
   explicit SurfaceGrid(const mesh::TriMesh& m) : mesh_(m) {
     double mean_edge = 0;
-    for (const auto& f : m.triangles) mean_edge += (m.vertices[f[1]] - m.vertices[f[0]]).norm();
-    cell_ = std::max(1e-3, 2.0 * mean_edge / static_cast<double>(m.triangles.size()));
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d hi = -lo;
+    for (const auto& f : m.triangles) {
+      mean_edge += (m.vertices[f[1]] - m.vertices[f[0]]).norm();
+      for (int v : f) lo = lo.cwiseMin(m.vertices[v]), hi = hi.cwiseMax(m.vertices[v]);
+    }
+    if (m.triangles.empty()) lo = hi = Eigen::Vector3d::Zero();
+    origin_ = lo;
+    cell_ = std::max(
+        {1e-3, 2.0 * mean_edge / static_cast<double>(std::max<size_t>(1, m.triangles.size())),
+         (hi - lo).maxCoeff() / (kMaxCells - 1)});
     for (size_t t = 0; t < m.triangles.size(); ++t) {
-      Eigen::Vector3d lo = m.vertices[m.triangles[t][0]], hi = lo;
-      for (int v : m.triangles[t]) lo = lo.cwiseMin(m.vertices[v]), hi = hi.cwiseMax(m.vertices[v]);
-      const Eigen::Vector3i a = cell_of(lo), b = cell_of(hi);
+      Eigen::Vector3d tlo = m.vertices[m.triangles[t][0]], thi = tlo;
+      for (int v : m.triangles[t])
+        tlo = tlo.cwiseMin(m.vertices[v]), thi = thi.cwiseMax(m.vertices[v]);
+      const Eigen::Vector3i a = cell_of(tlo), b = cell_of(thi);
       lo_ = lo_.cwiseMin(a), hi_ = hi_.cwiseMax(b);
       for (int x = a.x(); x <= b.x(); ++x)
         for (int y = a.y(); y <= b.y(); ++y)
@@ -52,23 +67,41 @@ class SurfaceGrid {
     }
   }
 
-  // Signed distance: positive on the side the nearest triangle's normal points to.
+  // Signed distance: positive on the side the nearest triangle's normal points to. The rings
+  // around p's cell are searched outward until no nearer triangle can remain; once that has
+  // looked at more cells than hold triangles (p far from a sparse mesh), every triangle is
+  // visited once instead.
   double signed_distance(const Eigen::Vector3d& p) const {
     const Eigen::Vector3i c = cell_of(p);
     double best = std::numeric_limits<double>::infinity(), sign = 1.0;
     const int r_max = (c - lo_).cwiseAbs().cwiseMax((c - hi_).cwiseAbs()).maxCoeff();
-    for (int r = 0; r <= r_max; ++r) {
+    // Rings nearer than the grid's box hold nothing.
+    const int r_min = (lo_ - c).cwiseMax(c - hi_).cwiseMax(0).maxCoeff();
+    size_t looked = 0;
+    const auto visit_cell = [&](int x, int y, int z) {
+      ++looked;
+      const auto it = cells_.find(key(x, y, z));
+      if (it != cells_.end())
+        for (int t : it->second) visit(p, t, best, sign);
+    };
+    for (int r = r_min; r <= r_max; ++r) {
+      if (looked > cells_.size() + 64) {
+        for (size_t t = 0; t < mesh_.triangles.size(); ++t) visit(p, int(t), best, sign);
+        break;
+      }
       for (int x = std::max(c.x() - r, lo_.x()); x <= std::min(c.x() + r, hi_.x()); ++x)
         for (int y = std::max(c.y() - r, lo_.y()); y <= std::min(c.y() + r, hi_.y()); ++y) {
-          const bool side = std::abs(x - c.x()) == r || std::abs(y - c.y()) == r;
           // Inside the shell's x-y square only the two z faces belong to this ring.
-          for (int z = c.z() - r; z <= c.z() + r; z += (side || r == 0) ? 1 : 2 * r) {
-            if (z < lo_.z() || z > hi_.z()) continue;
-            const auto it = cells_.find(key(x, y, z));
-            if (it == cells_.end()) continue;
-            for (int t : it->second) visit(p, t, best, sign);
+          if (std::abs(x - c.x()) == r || std::abs(y - c.y()) == r || r == 0) {
+            for (int z = std::max(c.z() - r, lo_.z()); z <= std::min(c.z() + r, hi_.z()); ++z)
+              visit_cell(x, y, z);
+          } else {
+            if (c.z() - r >= lo_.z() && c.z() - r <= hi_.z()) visit_cell(x, y, c.z() - r);
+            if (c.z() + r >= lo_.z() && c.z() + r <= hi_.z()) visit_cell(x, y, c.z() + r);
           }
         }
+      // Cells beyond ring r are at least r cells from p's cell (or from its projection onto the
+      // clamped box, which is no farther from any of them than p).
       if (best <= r * cell_) break;
     }
     return sign * best;
@@ -85,14 +118,18 @@ class SurfaceGrid {
     best = d;
     sign = (b - a).cross(c - a).dot(p - q) >= 0 ? 1.0 : -1.0;
   }
+  // Cell of `p`, counted from the mesh's corner; far queries are clamped to a few grid widths
+  // outside (their nearest cells are the same).
   Eigen::Vector3i cell_of(const Eigen::Vector3d& p) const {
-    return (p / cell_).array().floor().cast<int>();
+    const Eigen::Vector3d c = ((p - origin_) / cell_).array().floor();
+    return c.cwiseMax(-4.0 * kMaxCells).cwiseMin(5.0 * kMaxCells).cast<int>();
   }
   static long long key(int x, int y, int z) {
     return ((static_cast<long long>(x) + 100000) * 200003LL + (y + 100000)) * 200003LL +
            (z + 100000);
   }
   const mesh::TriMesh& mesh_;
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   double cell_ = 1.0;
   Eigen::Vector3i lo_ = Eigen::Vector3i::Constant(1 << 30), hi_ = -lo_;
   std::unordered_map<long long, std::vector<int>> cells_;

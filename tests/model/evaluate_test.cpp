@@ -2,6 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include "model/base_mesh.h"
 
 namespace orthoface::model {
@@ -59,6 +64,31 @@ TEST(SignedDistances, SignFollowsNormalsAndFarPointsWork) {
   EXPECT_NEAR(std::abs(d[2]), 450.0, 1e-9);  // far outside the grid
   EXPECT_NEAR(d[3], 0.0, 1e-9);              // on a corner
   EXPECT_THROW(signed_distances({{0, 0, 0}}, mesh::TriMesh{}), std::invalid_argument);
+}
+
+// Two 1 mm triangles a kilometre apart (a valid file that made `eval` run for hours: the grid's
+// cells followed the tiny edges): distances stay exact, near and far, and come back at once.
+TEST(SignedDistances, SparseFarApartGeometryStaysExactAndBounded) {
+  mesh::TriMesh far;
+  far.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1e6, 0, 0}, {1e6 + 1, 0, 0}, {1e6, 1, 0}};
+  far.triangles = {{0, 1, 2}, {3, 4, 5}};
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 2000; ++i)
+    points.emplace_back(i * 500.0 + 0.25, 0.25 * (i % 3), 5.0 * ((i % 7) - 3));
+  points.emplace_back(-3e9, 2e9, 7e8);  // far outside everything
+  const auto d = signed_distances(points, far);
+  ASSERT_EQ(d.size(), points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
+    // The nearest point of either triangle, by brute force.
+    double truth = std::numeric_limits<double>::infinity();
+    for (const double x0 : {0.0, 1e6}) {
+      const double u = std::clamp(p.x() - x0, 0.0, 1.0), v = std::clamp(p.y(), 0.0, 1.0 - u);
+      const double w = std::clamp(p.x() - x0, 0.0, 1.0 - v);
+      truth = std::min(truth, (p - Eigen::Vector3d(x0 + w, v, 0)).norm());
+    }
+    EXPECT_NEAR(std::abs(d[i]), truth, 1e-6 * (1 + truth)) << i;
+  }
 }
 
 TEST(FaceRegion, FromLandmarks) {
