@@ -34,6 +34,14 @@ Command capture_command() {
           0};
 }
 
+// " (clean plates 'P')" when plates were given: a modelling failure may come from them.
+std::string plates_used(const Args& a) {
+  std::string plates;
+  for (const char* flag : {"front-background", "side-background"})
+    if (a.has(flag)) plates += (plates.empty() ? "'" : ", '") + a.get(flag) + "'";
+  return plates.empty() ? "" : " (clean plates " + plates + ")";
+}
+
 }  // namespace
 
 int run_capture(int argc, char** argv) {
@@ -54,6 +62,9 @@ int run_capture(int argc, char** argv) {
   if (a.has("fps")) o.fps = to_double("fps", a.get("fps"), 1, 240);
   const double timeout = a.has("timeout") ? to_double("timeout", a.get("timeout"), 0.1, 600) : 5.0;
   if (a.has("rig")) require_file(a.get("rig"), "--rig");
+  // The rig is read (and refused) before anything is captured or written.
+  const std::optional<capture::RigCalibration> rig =
+      station_rig(a.get("rig"), a.get("front"), a.get("side"), o.width, o.height);
   vision::ObserveOptions plates;  // read before anything is captured
   read_clean_plates(a, plates, o.width, o.height);
   const std::string out = a.get("out");
@@ -76,17 +87,17 @@ int run_capture(int argc, char** argv) {
   reconstruct::ReconstructOptions ro;
   ro.force = a.has("force");
   ro.observe = plates;
-  ro.rig = station_rig(a.get("rig"), a.get("front"), a.get("side"), o.width, o.height);
+  ro.rig = rig;
   try {
     const reconstruct::Reconstruction r =
         reconstruct::from_photos(pair->front.image, pair->side.image, ro);
     reconstruct::write_reconstruction(r, out + "/model");
   } catch (const reconstruct::InputRefused& e) {
-    throw reconstruct::InputRefused(e.check(),
-                                    e.problem() + "; the captured pair is kept in " + pair_dir);
+    throw reconstruct::InputRefused(
+        e.check(), e.problem() + plates_used(a) + "; the captured pair is kept in " + pair_dir);
   } catch (const std::exception& e) {
-    throw std::runtime_error(std::string(e.what()) + " (the captured pair is kept in " + pair_dir +
-                             ")");
+    throw std::runtime_error(std::string(e.what()) + plates_used(a) +
+                             " (the captured pair is kept in " + pair_dir + ")");
   }
   std::printf("model written: %s/model\n", out.c_str());
   return 0;

@@ -12,6 +12,8 @@
 #include <CLI/CLI.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "vision/image_prep.h"
+
 namespace orthoface::app {
 
 std::string Args::get(const std::string& flag, const std::string& fallback) const {
@@ -158,14 +160,40 @@ void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width
     if (!a.has(flag)) continue;
     const std::string path = a.get(flag), what = std::string("--") + flag;
     require_file(path, what);
-    const cv::Mat plate = cv::imread(path, cv::IMREAD_COLOR);
-    if (plate.empty()) throw std::runtime_error(what + " " + path + ": not a readable image");
+    cv::Mat plate;
+    try {
+      plate = vision::read_image(path);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(what + ": " + e.what());
+    }
     if (width > 0 && (plate.cols != width || plate.rows != height))
       throw std::runtime_error(what + " " + path + ": " + std::to_string(plate.cols) + "x" +
                                std::to_string(plate.rows) + ", the cameras capture " +
                                std::to_string(width) + "x" + std::to_string(height));
     (flag[0] == 'f' ? options.background_front : options.background_side) = plate;
   }
+}
+
+std::string one_line(const std::string& message) {
+  std::string out;
+  for (size_t i = 0; i < message.size(); ++i) {
+    const unsigned char c = message[i];
+    if (c == '\n' || c == '\r') {
+      while (i + 1 < message.size() && (message[i + 1] == '\n' || message[i + 1] == '\r')) ++i;
+      while (i + 1 < message.size() && message[i + 1] == ' ') ++i;  // the next line's indent
+      if (i + 1 < message.size()) out += "; ";
+    } else if (c == '\t') {
+      out += ' ';
+    } else if (c < 0x20 || c >= 0x7f) {
+      char hex[5];
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    } else {
+      out += char(c);
+    }
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
 }
 
 Flag front_background_flag() {

@@ -58,6 +58,11 @@ void require_file(const std::string& path, const std::string& what);
 void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width = 0,
                        int height = 0);
 
+// `message` as one printable line: line breaks become "; ", other control and non-ASCII bytes
+// \xNN (a file's bytes echoed in an error cannot move the cursor or end the line), trailing
+// blanks dropped. main() prints every error through it.
+std::string one_line(const std::string& message);
+
 // The help lines of those two flags.
 Flag front_background_flag();
 Flag side_background_flag();

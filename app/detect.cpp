@@ -10,6 +10,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "io/atomic_file.h"
+#include "vision/face_detect.h"
 #include "vision/image_prep.h"
 #include "vision/observation_io.h"
 #include "vision/observe.h"
@@ -97,6 +98,20 @@ int run_detect(int argc, char** argv) {
                                " does not exist");
   }
   const vision::FaceObservation obs = vision::observe(front, side, options);
+  // No face in a photo is an error, as in reconstruct and capture, and nothing is written: the
+  // front needs a head and a face the detector finds (as reconstruct's input check front_face),
+  // the side a head.
+  const bool front_faceless = obs.front.boundary.empty() || vision::detect_faces(front).empty();
+  std::string faceless;
+  for (const auto& [view, empty] :
+       {std::pair{"front", front_faceless}, std::pair{"side", obs.side.boundary.empty()}}) {
+    if (!empty) continue;
+    const std::string plate = std::string("background-") + view;
+    faceless += std::string(faceless.empty() ? "" : " nor in ") + "the " + view + " photo '" +
+                args.get(view) + "'" +
+                (args.has(plate) ? " (clean plate '" + args.get(plate) + "')" : std::string());
+  }
+  if (!faceless.empty()) throw std::runtime_error("no face found in " + faceless);
   const std::filesystem::path out = args.get("out");
   prepare_output_dir(out.string());
   vision::write_observation(obs, (out / "observation.json").string());
@@ -112,12 +127,6 @@ int run_detect(int argc, char** argv) {
             << (out / "observation.json").string()
             << (args.has("pts") ? " and " + args.get("pts") : std::string()) << "\n";
   for (const auto& w : obs.warnings) std::cout << "  warning: " << w << "\n";
-  if (obs.front.boundary.empty() && obs.side.boundary.empty()) {
-    std::cerr << "error: no face found in '" << args.get("front") << "' nor in '"
-              << args.get("side") << "' (report written to " << (out / "observation.json").string()
-              << ")\n";
-    return 1;
-  }
   if (!complete) std::cout << "  incomplete: " << missing << "\n";
   return 0;
 }

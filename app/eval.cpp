@@ -84,8 +84,13 @@ int run_eval(int argc, char** argv) {
   // With a bare mesh as truth the face region comes from the reconstruction's own landmarks.
   const model::FaceRegion region =
       model::face_region(truth_landmarks.empty() ? rec_landmarks : truth_landmarks);
-  const model::ErrorReport e =
-      model::reconstruction_error(rec, truth, region, rec_landmarks, truth_landmarks);
+  model::ErrorReport e;
+  try {  // the model layer speaks of "the reconstructed mesh": say which files were compared
+    e = model::reconstruction_error(rec, truth, region, rec_landmarks, truth_landmarks);
+  } catch (const std::exception& ex) {
+    throw std::runtime_error("eval of " + (dir / "head.obj").string() + " against " +
+                             truth_path.string() + ": " + ex.what());
+  }
   const mesh::TriMesh colored =
       model::error_colored(rec, model::signed_distances(rec.vertices, truth), range);
   mesh::write_mesh(colored, (dir / "error.ply").string());

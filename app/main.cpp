@@ -5,6 +5,9 @@
 #include <iostream>
 #include <string>
 
+#include <opencv2/core/utils/logger.hpp>
+
+#include "app/cli.h"
 #include "app/commands.h"
 #include "reconstruct/reconstruction.h"
 
@@ -59,15 +62,17 @@ int main(int argc, char** argv) {
     print_usage();
     return argc < 2 ? 1 : 0;
   }
+  // OpenCV's own warnings (a decoder's "[ WARN ...]") would be lines beside our one error line.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_SILENT);
   for (const Entry& e : kCommands) {
     if (std::strcmp(argv[1], e.name) != 0) continue;
     try {
       return e.run(argc, argv);
     } catch (const orthoface::reconstruct::InputRefused& ex) {  // a wrong pair: exit 3 (README)
-      std::cerr << "error: " << ex.what() << "\n";
+      std::cerr << "error: " << orthoface::app::one_line(ex.what()) << "\n";
       return orthoface::reconstruct::kExitInputRefused;
     } catch (const std::exception& ex) {
-      std::cerr << "error: " << ex.what() << "\n";
+      std::cerr << "error: " << orthoface::app::one_line(ex.what()) << "\n";
       return 1;
     }
   }

@@ -10,6 +10,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "reconstruct/reconstruction.h"
+#include "vision/image_prep.h"
 #include "vision/pts_io.h"
 
 namespace orthoface::app {
@@ -50,9 +51,11 @@ Command reconstruct_command() {
 
 cv::Mat read_photo(const std::string& path, const std::string& flag) {
   require_file(path, flag);
-  cv::Mat img = cv::imread(path, cv::IMREAD_COLOR);
-  if (img.empty()) throw std::runtime_error(flag + " " + path + ": not a readable image");
-  return img;
+  try {
+    return vision::read_image(path);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(flag + ": " + e.what());
+  }
 }
 
 reconstruct::ReconstructOptions options_from(const Args& a) {
@@ -92,6 +95,15 @@ std::map<std::string, cv::Point2d> front_landmarks(const std::string& path, cons
   return vision::named_from_ibug68(pts);
 }
 
+// "front 'F', side 'S' (clean plates 'P'): ", the files a failure of the pair is about.
+std::string pair_names(const Args& a) {
+  std::string s = "front '" + a.get("front") + "', side '" + a.get("side") + "'";
+  std::string plates;
+  for (const char* flag : {"front-background", "side-background"})
+    if (a.has(flag)) plates += (plates.empty() ? "'" : ", '") + a.get(flag) + "'";
+  return s + (plates.empty() ? "" : " (clean plates " + plates + ")") + ": ";
+}
+
 }  // namespace
 
 int run_reconstruct(int argc, char** argv) {
@@ -112,7 +124,14 @@ int run_reconstruct(int argc, char** argv) {
   const cv::Mat side = read_photo(args.get("side"), "--side");
   if (args.has("front-landmarks"))
     options.observe.front_landmarks = front_landmarks(args.get("front-landmarks"), front);
-  const reconstruct::Reconstruction r = reconstruct::from_photos(front, side, options);
+  reconstruct::Reconstruction r;
+  try {  // the library speaks of "the front photo": say which files the pair was
+    r = reconstruct::from_photos(front, side, options);
+  } catch (const reconstruct::InputRefused& e) {
+    throw reconstruct::InputRefused(e.check(), pair_names(args) + e.problem());
+  } catch (const std::exception& e) {
+    throw std::runtime_error(pair_names(args) + e.what());
+  }
   reconstruct::write_reconstruction(r, out);
   double total = 0;
   for (const auto& [stage, ms] : r.report.stage_ms) total += ms;

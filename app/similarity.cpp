@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
@@ -69,7 +70,12 @@ int run_similarity(int argc, char** argv) {
   std::vector<analysis::FaceSignature> sig;
   for (const auto& f : files) {
     require_file(f, "mesh");
-    sig.push_back(analysis::face_signature(mesh::read_mesh(f), options));
+    const mesh::TriMesh m = mesh::read_mesh(f);  // its errors name the file
+    try {
+      sig.push_back(analysis::face_signature(m, options));
+    } catch (const std::exception& e) {
+      throw std::runtime_error("mesh " + f + ": " + e.what());
+    }
     for (const auto& w : sig.back().warnings) std::printf("%s: %s\n", f.c_str(), w.c_str());
   }
   const size_t n = sig.size();

@@ -17,6 +17,7 @@
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "render/textured_export.h"
+#include "vision/image_prep.h"
 #include "vision/observation_io.h"
 #include "vision/profile_mask.h"
 
@@ -143,8 +144,11 @@ Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& op
     if (!fs::is_regular_file(in / name)) throw std::runtime_error(what + ": no " + name);
   Reconstruction r;
   for (auto [name, image] : {std::pair{"front.png", &r.front}, {"side.png", &r.side}}) {
-    *image = cv::imread((in / name).string(), cv::IMREAD_COLOR);
-    if (image->empty()) throw std::runtime_error(what + ": cannot read image " + name);
+    try {  // read_image: a truncated or undecodable file is refused without decoder chatter
+      *image = vision::read_image((in / name).string());
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(what + ": " + e.what());
+    }
   }
   mesh::MeshReadOptions ro;
   ro.load_texture = false;  // views and exports texture the mesh from the photos themselves

@@ -71,6 +71,17 @@ TEST(Cli, BadCommandLinesNameTheCommandAndTheFlag) {
   }
 }
 
+// Error messages reach the terminal as one printable line whatever a file put in them.
+TEST(Cli, OneLineEscapesWhatAFileCouldInject) {
+  EXPECT_EQ(one_line("plain message"), "plain message");
+  EXPECT_EQ(one_line("OpenCV: assertion\n in function 'f'\n"),
+            "OpenCV: assertion; in function 'f'");
+  EXPECT_EQ(one_line("a\r\n\nb"), "a; b");
+  EXPECT_EQ(one_line("bad byte \x1b[2J here\tand\xff"), "bad byte \\x1b[2J here and\\xff");
+  EXPECT_EQ(one_line(""), "");
+  EXPECT_EQ(one_line("\n\n"), "");
+}
+
 TEST(Cli, TypedGettersCheckRanges) {
   EXPECT_EQ(to_int("k", "7", 1, 10), 7);
   EXPECT_THROW(to_int("k", "0", 1, 10), std::invalid_argument);

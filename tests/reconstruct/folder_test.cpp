@@ -18,6 +18,7 @@
 #include "render/renderer.h"
 #include "sim/head.h"
 #include "sim/rig.h"
+#include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::reconstruct {
@@ -182,6 +183,12 @@ TEST_F(Folder, BadFoldersNameTheFolderAndTheFile) {
   std::ofstream(bad / "front.png") << "not a png";
   expect_error("front.png");
   fs::copy_file(*dir_ / "front.png", bad / "front.png", fs::copy_options::overwrite_existing);
+  {  // a truncated photo is refused (once decoded half-grey with libpng chatter on stderr)
+    const std::string png = testing::slurp(*dir_ / "side.png");
+    std::ofstream(bad / "side.png", std::ios::binary) << png.substr(0, png.size() / 2);
+    expect_error("side.png");
+    fs::copy_file(*dir_ / "side.png", bad / "side.png", fs::copy_options::overwrite_existing);
+  }
   std::ofstream(bad / "landmarks.json") << "{\"landmarks\": [";
   expect_error("landmarks.json");
   std::ofstream(bad / "landmarks.json") << "{}";
