@@ -4,7 +4,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <functional>
+#include <iterator>
 #include <limits>
 #include <stdexcept>
 
@@ -283,9 +285,44 @@ void write_rig(const RigCalibration& rig, const std::string& path, RigFormat for
   });
 }
 
+namespace {
+
+// OpenCV 4.6's YAML parser runs for minutes (or for ever) on a few dozen bytes of unbalanced or
+// deeply nested brackets: a rig file is first checked to be short text (no control bytes) whose
+// brackets balance and nest at most 8 deep (a real one nests 1).
+void check_rig_text(const std::string& path) {
+  constexpr std::uintmax_t kMaxBytes = 1 << 20;
+  if (std::filesystem::file_size(path) > kMaxBytes)
+    throw std::runtime_error("rig file " + path + ": over 1 MiB; a rig file is a few kB of text");
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  int depth = 0, deepest = 0;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') {
+      char what[80];
+      std::snprintf(what, sizeof(what), ": byte 0x%02X at offset %zu: not a text file", c, i);
+      throw std::runtime_error("rig file " + path + what);
+    }
+    if (c == '[' || c == '{') deepest = std::max(deepest, ++depth);
+    if ((c == ']' || c == '}') && --depth < 0)
+      throw std::runtime_error("rig file " + path + ": a bracket closes at offset " +
+                               std::to_string(i) + " that was never opened");
+  }
+  if (deepest > 8)
+    throw std::runtime_error("rig file " + path + ": brackets nested " + std::to_string(deepest) +
+                             " deep; a rig file needs 1");
+  if (depth != 0)
+    throw std::runtime_error("rig file " + path + ": " + std::to_string(depth) +
+                             " bracket(s) never closed");
+}
+
+}  // namespace
+
 RigCalibration read_rig(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("rig file " + path + ": no such file");
+  check_rig_text(path);
   cv::FileStorage fs;
   try {
     fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);

@@ -57,7 +57,8 @@ TriMesh read_off(const std::string& path) {
   bool colors = head == "COFF";
   for (int i = 0; i < static_cast<int>(nv); ++i) {
     if (!next_tokens(in, tok, line_no))
-      fail(path, "truncated: " + std::to_string(i) + " of " + tok[0] + " vertices");
+      fail(path, "truncated: " + std::to_string(i) + " of " + std::to_string(long(nv)) +
+                     " vertices");  // not tok[0]: a failed read leaves tok empty
     if (tok.size() < 3) fail(path, "line " + std::to_string(line_no) + ": vertex needs x y z");
     m.vertices.emplace_back(number(tok[0], path, line_no), number(tok[1], path, line_no),
                             number(tok[2], path, line_no));

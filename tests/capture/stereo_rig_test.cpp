@@ -162,6 +162,37 @@ TEST(StereoRig, CorruptMatrixSizesAreRefusedBeforeAllocating) {
   EXPECT_NO_THROW(check_matrix_node(fs["ok"]));
 }
 
+// OpenCV's YAML parser ran past 10 s on 267 bytes of nested brackets (found by fuzz_rig): rig
+// files are checked to be short text with shallow nesting first.
+TEST(StereoRig, DeepNestingControlBytesAndHugeFilesAreRefusedBeforeParsing) {
+  const fs::path dir = testing::temp_dir("rig_text");
+  const std::string regress =
+      std::string(ORTHOFACE_SOURCE_DIR) + "/fuzz/corpus/rig/regress_nested_brackets.yaml";
+  auto message = [](const std::string& path) {
+    try {
+      read_rig(path);
+    } catch (const std::runtime_error& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  EXPECT_NE(message(regress).find("not a text file"), std::string::npos) << message(regress);
+  std::ofstream(dir / "nested.yaml")
+      << "%YAML:1.0\n---\nK1: " << std::string(9, '[') << "1" << std::string(9, ']') << "\n";
+  EXPECT_NE(message((dir / "nested.yaml").string()).find("nested 9 deep"), std::string::npos);
+  const std::string unclosed =
+      std::string(ORTHOFACE_SOURCE_DIR) + "/fuzz/corpus/rig/regress_unclosed_brackets.yaml";
+  EXPECT_NE(message(unclosed).find("never closed"), std::string::npos) << message(unclosed);
+  std::ofstream(dir / "closes.yaml") << "%YAML:1.0\n---\nK1: ]\n";
+  EXPECT_NE(message((dir / "closes.yaml").string()).find("never opened"), std::string::npos);
+  std::ofstream(dir / "huge.yaml") << "%YAML:1.0\n---\n# " << std::string(1 << 20, 'x') << "\n";
+  EXPECT_NE(message((dir / "huge.yaml").string()).find("over 1 MiB"), std::string::npos);
+  // Our own rig and comments in UTF-8 still read.
+  write_rig(ideal_rig(64, 48, 1.0), (dir / "ok.yaml").string());
+  { std::ofstream(dir / "ok.yaml", std::ios::app) << "# Kamera f\xc3\xbcr vorne\n"; }
+  EXPECT_NO_THROW(read_rig((dir / "ok.yaml").string()));
+}
+
 TEST(StereoRig, BadFilesThrowNamingTheFileAndField) {
   const fs::path dir = testing::temp_dir("stereo_rig_bad");
   const std::string k =

@@ -310,12 +310,14 @@ TEST(MeshIo, BadInputFilesGiveErrorsNamingTheFile) {
 }
 
 // Inputs the fuzz targets found (fuzz/corpus/*/regress_*): refused with an error, not undefined
-// behaviour (a face size beyond size_t cast from double; a NaN index printed through a cast).
+// behaviour (a face size beyond size_t cast from double; a NaN index printed through a cast; the
+// message of a truncated vertex list read from the emptied token list).
 TEST(MeshIo, FuzzFindingsAreRefused) {
   const fs::path corpus = fs::path(ORTHOFACE_SOURCE_DIR) / "fuzz/corpus";
   const std::pair<const char*, const char*> cases[] = {
       {"off/regress_face_count_beyond_size_t.off", "bad face"},
-      {"glb/regress_nan_index.glb", "index -nan out of range"}};
+      {"glb/regress_nan_index.glb", "index -nan out of range"},
+      {"off/regress_truncated_vertices_message.off", "truncated"}};
   for (const auto& [file, what] : cases) {
     const std::string msg = error_of((corpus / file).string());
     EXPECT_NE(msg.find(fs::path(file).filename().string()), std::string::npos) << msg;
