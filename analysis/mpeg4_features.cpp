@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 #include <tuple>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -425,30 +426,40 @@ std::string feature_report_json(const mesh::TriMesh& mesh, const FeatureReport& 
                                   " vertices");
     return vec(mesh.vertices[size_t(v)]);
   };
+  // Built member by member: a braced list holding the temporaries these calls return kept
+  // references past their lifetime (AddressSanitizer: stack-use-after-scope).
   const auto key = [&](const std::optional<int>& v) {
-    return v ? nlohmann::json{{"vertex", *v}, {"position", at(*v)}} : nlohmann::json(nullptr);
+    nlohmann::json k(nullptr);
+    if (v) {
+      k = nlohmann::json::object();
+      k["vertex"] = *v;
+      k["position"] = at(*v);
+    }
+    return k;
   };
   nlohmann::json j;
-  j["key_vertices"] = {{"P1_ear_left", key(r.ear_left)},
-                       {"P2_ear_right", key(r.ear_right)},
-                       {"P4_nose_tip", key(r.nose_tip)}};
+  j["key_vertices"]["P1_ear_left"] = key(r.ear_left);
+  j["key_vertices"]["P2_ear_right"] = key(r.ear_right);
+  j["key_vertices"]["P4_nose_tip"] = key(r.nose_tip);
   if (r.axes_found) {
     j["key_vertices"]["P3_ear_midpoint"] = vec(r.ear_midpoint);
-    j["axes"] = {{"origin", vec(r.ear_midpoint)},
-                 {"left", vec(r.axes.col(0))},
-                 {"up", vec(r.axes.col(1))},
-                 {"forward", vec(r.axes.col(2))}};
-    j["symmetry_plane"] = {{"normal", vec(r.symmetry_plane.head<3>())},
-                           {"d", r.symmetry_plane[3]},
-                           {"mirror_error", r.symmetry_error}};
+    j["axes"]["origin"] = vec(r.ear_midpoint);
+    j["axes"]["left"] = vec(r.axes.col(0));
+    j["axes"]["up"] = vec(r.axes.col(1));
+    j["axes"]["forward"] = vec(r.axes.col(2));
+    j["symmetry_plane"]["normal"] = vec(r.symmetry_plane.head<3>());
+    j["symmetry_plane"]["d"] = r.symmetry_plane[3];
+    j["symmetry_plane"]["mirror_error"] = r.symmetry_error;
   }
   j["feature_points"] = nlohmann::json::array();
   for (const auto& p : r.points) {
-    at(p.vertex);
-    j["feature_points"].push_back({{"name", p.name},
-                                   {"description", p.description},
-                                   {"vertex", p.vertex},
-                                   {"position", vec(p.position)}});
+    nlohmann::json point;
+    point["name"] = p.name;
+    point["description"] = p.description;
+    point["vertex"] = p.vertex;
+    at(p.vertex);  // refuses an index outside the mesh
+    point["position"] = vec(p.position);
+    j["feature_points"].push_back(std::move(point));
   }
   j["missing"] = r.missing;
   return j.dump(2);
