@@ -2,16 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <opencv2/core/eigen.hpp>
 
+#include "capture/rig_text.h"
 #include "capture/stereo_rig.h"
 #include "io/atomic_file.h"
 
@@ -48,57 +47,54 @@ void write_camera(cv::FileStorage& fs, const std::string& key, const CameraModel
   fs << "}";
 }
 
-// Reads matrix field `name` of node `n`; OpenCV's own error text does not name the field.
-cv::Mat read_matrix(const cv::FileNode& n, const std::string& name,
-                    const std::function<void(const std::string&)>& fail) {
-  cv::Mat m;
-  if (n[name].empty()) return m;  // the caller says it is missing
+using Fail = std::function<void(const std::string&)>;
+
+// Matrix field `name` of camera section `n` as CV_64F; empty when the field is absent (the
+// caller says it is missing).
+cv::Mat read_matrix(const RigNode& n, const std::string& name, const Fail& fail) {
+  const RigNode* m = n.find(name);
+  if (!m) return {};
   try {
-    check_matrix_node(n[name]);
-    n[name] >> m;
+    return matrix_from_node(*m);
   } catch (const std::invalid_argument& e) {
     fail(name + " " + e.what());
-  } catch (const cv::Exception&) {
-    fail(name + " is not a well-formed matrix");
   }
-  return m;
+  return {};
 }
 
-CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
-                        const std::string& path) {
-  const cv::FileNode n = fs[key];
-  const std::function<void(const std::string&)> fail = [&](const std::string& what) {
+CameraModel read_camera(const RigNode& root, const std::string& key, const std::string& path) {
+  const Fail fail = [&](const std::string& what) {
     throw std::runtime_error("rig file " + path + ": " + key + ": " + what);
   };
-  if (n.empty() || !n.isMap()) fail("missing camera section");
+  const RigNode* n = root.find(key);
+  if (!n || !n->is_map()) fail("missing camera section");
   CameraModel c;
-  std::string proj;
-  n["projection"] >> proj;
+  const RigNode* projection = n->find("projection");
+  const std::string proj = projection && projection->is_scalar() ? projection->text : "";
   if (proj == "orthographic")
     c.projection = Projection::Orthographic;
   else if (proj == "perspective")
     c.projection = Projection::Perspective;
   else
     fail("projection must be orthographic or perspective, got '" + proj + "'");
-  if (n["width"].empty() || n["height"].empty()) fail("missing width/height");
-  n["width"] >> c.width;
-  n["height"] >> c.height;
-  if (c.width <= 0 || c.height <= 0 || c.width > 20000 || c.height > 20000)
-    fail("image size " + std::to_string(c.width) + "x" + std::to_string(c.height) +
-         " out of range");
-  cv::Mat k = read_matrix(n, "camera_matrix", fail);
+  const RigNode *width = n->find("width"), *height = n->find("height");
+  if (!width || !height) fail("missing width/height");
+  const std::optional<long long> w = width->as_int(), h = height->as_int();
+  if (!w || !h) fail("image size: width and height must be whole numbers of pixels");
+  if (*w <= 0 || *h <= 0 || *w > 20000 || *h > 20000)
+    fail("image size " + std::to_string(*w) + "x" + std::to_string(*h) + " out of range");
+  c.width = int(*w);
+  c.height = int(*h);
+  const cv::Mat k = read_matrix(*n, "camera_matrix", fail);
   if (k.rows != 3 || k.cols != 3) fail("camera_matrix must be 3x3");
-  k.convertTo(k, CV_64F);
   c.fx = k.at<double>(0, 0);
   c.fy = k.at<double>(1, 1);
   c.cx = k.at<double>(0, 2);
   c.cy = k.at<double>(1, 2);
   if (const std::string why = camera_problem(c); !why.empty()) fail("camera_matrix: " + why);
-  cv::Mat d = read_matrix(n, "distortion", fail);
+  const cv::Mat d = read_matrix(*n, "distortion", fail);
   if (!d.empty()) {
-    d.convertTo(d, CV_64F);
-    d = d.reshape(1, 1);
-    if (d.cols != 4 && d.cols != 5) fail("distortion must have 4 or 5 coefficients");
+    if (d.total() != 4 && d.total() != 5) fail("distortion must have 4 or 5 coefficients");
     c.distortion.assign(d.begin<double>(), d.end<double>());
     bool all_zero = true;
     for (double v : c.distortion) {
@@ -107,9 +103,8 @@ CameraModel read_camera(const cv::FileStorage& fs, const std::string& key,
     }
     if (all_zero) c.distortion.clear();
   }
-  cv::Mat pose = read_matrix(n, "cam_from_head", fail);
+  const cv::Mat pose = read_matrix(*n, "cam_from_head", fail);
   if (pose.rows != 4 || pose.cols != 4) fail("cam_from_head must be a 4x4 matrix");
-  pose.convertTo(pose, CV_64F);
   Eigen::Matrix4d m;
   cv::cv2eigen(pose, m);
   if (!m.allFinite()) fail("cam_from_head has non-finite entries");
@@ -285,68 +280,19 @@ void write_rig(const RigCalibration& rig, const std::string& path, RigFormat for
   });
 }
 
-namespace {
-
-// OpenCV 4.6's YAML parser runs for minutes (or for ever) on a few dozen bytes of unbalanced or
-// deeply nested brackets: a rig file is first checked to be short text (no control bytes) whose
-// brackets balance and nest at most 8 deep (a real one nests 1).
-void check_rig_text(const std::string& path) {
-  constexpr std::uintmax_t kMaxBytes = 1 << 20;
-  if (std::filesystem::file_size(path) > kMaxBytes)
-    throw std::runtime_error("rig file " + path + ": over 1 MiB; a rig file is a few kB of text");
-  std::ifstream in(path, std::ios::binary);
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  int depth = 0, deepest = 0;
-  for (size_t i = 0; i < text.size(); ++i) {
-    const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c < 0x20 && c != '\t' && c != '\n' && c != '\r') {
-      char what[80];
-      std::snprintf(what, sizeof(what), ": byte 0x%02X at offset %zu: not a text file", c, i);
-      throw std::runtime_error("rig file " + path + what);
-    }
-    if (c == '[' || c == '{') deepest = std::max(deepest, ++depth);
-    if ((c == ']' || c == '}') && --depth < 0)
-      throw std::runtime_error("rig file " + path + ": a bracket closes at offset " +
-                               std::to_string(i) + " that was never opened");
-  }
-  if (deepest > 8)
-    throw std::runtime_error("rig file " + path + ": brackets nested " + std::to_string(deepest) +
-                             " deep; a rig file needs 1");
-  if (depth != 0)
-    throw std::runtime_error("rig file " + path + ": " + std::to_string(depth) +
-                             " bracket(s) never closed");
-}
-
-}  // namespace
-
 RigCalibration read_rig(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error("rig file " + path + ": no such file");
-  check_rig_text(path);
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("rig file " + path + ": not valid YAML (" + e.err + ")");
-  }
-  if (!fs.isOpened()) throw std::runtime_error("rig file " + path + ": cannot be parsed as YAML");
-  if (fs["orthoface_rig"].empty()) {
-    if (!fs["K1"].empty() || !fs["M1"].empty() || !fs["R"].empty()) {
-      fs.release();
-      return read_opencv_stereo(path);
-    }
+  const RigNode root = read_rig_text(path);
+  if (!root.find("orthoface_rig")) {
+    if (root.find("K1") || root.find("M1") || root.find("R")) return opencv_stereo_rig(root, path);
     throw std::runtime_error("rig file " + path +
                              ": missing 'orthoface_rig' version key (and not an OpenCV stereo "
                              "calibration with K1 D1 K2 D2 R T)");
   }
   RigCalibration rig;
-  try {
-    rig.front = read_camera(fs, "front", path);
-    rig.side = read_camera(fs, "side", path);
-    fs["source"] >> rig.source;
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("rig file " + path + ": malformed field (" + e.err + ")");
-  }
+  rig.front = read_camera(root, "front", path);
+  rig.side = read_camera(root, "side", path);
+  if (const RigNode* source = root.find("source"); source && source->is_scalar())
+    rig.source = source->text;
   if (rig.source.empty()) rig.source = path;
   return rig;
 }

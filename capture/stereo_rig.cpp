@@ -10,6 +10,7 @@
 #include <opencv2/calib3d.hpp>
 #include <opencv2/core/eigen.hpp>
 
+#include "capture/rig_text.h"
 #include "io/atomic_file.h"
 
 namespace orthoface::capture {
@@ -29,30 +30,24 @@ using Fail = std::function<void(const std::string& field, const std::string& wha
 
 // `name` (or its alternative `alt`, e.g. the stereo_calib sample's M1 for K1) as a CV_64F
 // matrix; fails when missing, not a matrix or not finite.
-cv::Mat read_mat(const cv::FileStorage& fs, const std::string& name, const std::string& alt,
+cv::Mat read_mat(const RigNode& root, const std::string& name, const std::string& alt,
                  const Fail& fail) {
   std::string key = name;
-  if (fs[key].empty() && !alt.empty() && !fs[alt].empty()) key = alt;
-  const cv::FileNode n = fs[key];
-  if (n.empty()) fail(alt.empty() ? name : name + " (or " + alt + ")", "missing");
+  if (!root.find(key) && !alt.empty() && root.find(alt)) key = alt;
+  const RigNode* n = root.find(key);
+  if (!n) fail(alt.empty() ? name : name + " (or " + alt + ")", "missing");
   cv::Mat m;
   try {
-    check_matrix_node(n);
-    n >> m;
+    m = matrix_from_node(*n);
   } catch (const std::invalid_argument& e) {
     fail(key, e.what());
-  } catch (const cv::Exception&) {
-    fail(key, "is not a well-formed matrix");
   }
-  if (m.empty()) fail(key, "is not a matrix (!!opencv-matrix with rows, cols, data)");
-  if (m.channels() != 1) fail(key, "must have one channel");
-  m.convertTo(m, CV_64F);
   if (!cv::checkRange(m)) fail(key, "has a non-finite value");
   return m;
 }
 
 // Camera intrinsics from K (3x3, no skew) and D (4, 5 or more coefficients, past the fifth 0).
-CameraModel read_camera(const cv::FileStorage& fs, int index, const Fail& fail) {
+CameraModel read_camera(const RigNode& fs, int index, const Fail& fail) {
   const std::string k_name = "K" + std::to_string(index), d_name = "D" + std::to_string(index);
   const cv::Mat k = read_mat(fs, k_name, "M" + std::to_string(index), fail);
   if (k.rows != 3 || k.cols != 3)
@@ -83,25 +78,26 @@ CameraModel read_camera(const cv::FileStorage& fs, int index, const Fail& fail) 
 }
 
 // The image size: `size_key` / `alt_key` as [w, h], or `width_key` + `height_key`.
-bool read_size(const cv::FileStorage& fs, const std::vector<std::string>& size_keys,
+bool read_size(const RigNode& root, const std::vector<std::string>& size_keys,
                const std::string& width_key, const std::string& height_key, int& w, int& h,
                const Fail& fail) {
   for (const std::string& key : size_keys) {
-    const cv::FileNode n = fs[key];
-    if (n.empty()) continue;
-    if (!n.isSeq() || n.size() != 2 || !n[0].isInt() || !n[1].isInt())
+    const RigNode* n = root.find(key);
+    if (!n) continue;
+    if (!n->is_seq() || n->items.size() != 2 || !n->items[0].as_int() || !n->items[1].as_int())
       fail(key, "must be [width, height] in whole pixels");
-    w = int(n[0]), h = int(n[1]);
+    w = int(*n->items[0].as_int()), h = int(*n->items[1].as_int());
     return true;
   }
-  if (fs[width_key].empty() && fs[height_key].empty()) return false;
-  if (!fs[width_key].isInt() || !fs[height_key].isInt())
+  const RigNode *width = root.find(width_key), *height = root.find(height_key);
+  if (!width && !height) return false;
+  if (!width || !height || !width->as_int() || !height->as_int())
     fail(width_key + " / " + height_key, "must both be whole numbers of pixels");
-  w = int(fs[width_key]), h = int(fs[height_key]);
+  w = int(*width->as_int()), h = int(*height->as_int());
   return true;
 }
 
-Eigen::Isometry3d read_pose(const cv::FileStorage& fs, const Fail& fail) {
+Eigen::Isometry3d read_pose(const RigNode& fs, const Fail& fail) {
   cv::Mat r = read_mat(fs, "R", "", fail);
   if (r.total() == 3) {
     cv::Mat rm;
@@ -223,19 +219,14 @@ void write_opencv_stereo(const RigCalibration& rig, const std::string& path) {
 }
 
 RigCalibration read_opencv_stereo(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path))
-    throw std::runtime_error("rig file " + path + ": no such file");
+  return opencv_stereo_rig(read_rig_text(path), path);
+}
+
+RigCalibration opencv_stereo_rig(const RigNode& fs, const std::string& path) {
   const Fail fail = [&](const std::string& field, const std::string& what) {
     throw std::runtime_error("rig file " + path + " (OpenCV stereo calibration): " + field + ": " +
                              what);
   };
-  cv::FileStorage fs;
-  try {
-    fs.open(path, cv::FileStorage::READ);
-  } catch (const cv::Exception& e) {
-    throw std::runtime_error("rig file " + path + ": not valid YAML/XML (" + e.err + ")");
-  }
-  if (!fs.isOpened()) throw std::runtime_error("rig file " + path + ": cannot be parsed");
   CameraModel front = read_camera(fs, 1, fail), side = read_camera(fs, 2, fail);
   if (!read_size(fs, {"image_size", "imageSize"}, "image_width", "image_height", front.width,
                  front.height, fail))
@@ -248,7 +239,7 @@ RigCalibration read_opencv_stereo(const std::string& path) {
            std::to_string(c->width) + "x" + std::to_string(c->height) + " is not in 1..20000");
   const Eigen::Isometry3d side_from_front = read_pose(fs, fail);
   RigCalibration rig;
-  if (!fs["orthoface_cam1_from_head"].empty()) {
+  if (fs.find("orthoface_cam1_from_head")) {
     const cv::Mat m = read_mat(fs, "orthoface_cam1_from_head", "", fail);
     if (m.rows != 4 || m.cols != 4) fail("orthoface_cam1_from_head", "must be 4x4");
     Eigen::Matrix4d e;
@@ -272,20 +263,6 @@ RigCalibration read_opencv_stereo(const std::string& path) {
   }
   rig.source = path;
   return rig;
-}
-
-void check_matrix_node(const cv::FileNode& n) {
-  if (!n.isMap())
-    throw std::invalid_argument("is not a matrix (!!opencv-matrix with rows, cols, data)");
-  const cv::FileNode rows = n["rows"], cols = n["cols"], data = n["data"];
-  if (!rows.isInt() || !cols.isInt())
-    throw std::invalid_argument("needs whole numbers for rows and cols");
-  const int r = int(rows), c = int(cols);
-  if (r < 1 || r > 16 || c < 1 || c > 16)
-    throw std::invalid_argument("is " + std::to_string(r) + " x " + std::to_string(c) +
-                                "; a rig matrix has 1..16 rows and columns");
-  if (!data.isSeq() || data.size() != size_t(r) * size_t(c))
-    throw std::invalid_argument("needs " + std::to_string(r * c) + " data values (rows x cols)");
 }
 
 }  // namespace orthoface::capture

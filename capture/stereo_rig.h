@@ -6,9 +6,8 @@
 #include <string>
 
 #include <Eigen/Geometry>
-#include <opencv2/core/persistence.hpp>
-
 #include "capture/camera_model.h"
+#include "capture/rig_text.h"
 
 namespace orthoface::capture {
 
@@ -52,11 +51,7 @@ void write_opencv_stereo(const RigCalibration& rig, const std::string& path);
 // std::runtime_error naming the file and the field that is missing, of the wrong shape,
 // non-finite, absurd, not a rotation, or whose axes do not meet.
 RigCalibration read_opencv_stereo(const std::string& path);
-
-// A rig file's matrix node checked before OpenCV reads it (OpenCV allocates rows x cols as the
-// file says, gigabytes for a corrupt size): an !!opencv-matrix with integer rows and cols of
-// 1..16 each and exactly rows x cols data values. Throws std::invalid_argument saying what is
-// wrong (the caller names the file and field).
-void check_matrix_node(const cv::FileNode& node);
+// The same from a rig file's parsed text (capture/rig_text.h); `path` names it in errors.
+RigCalibration opencv_stereo_rig(const RigNode& root, const std::string& path);
 
 }  // namespace orthoface::capture

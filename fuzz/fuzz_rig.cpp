@@ -1,4 +1,5 @@
-// capture::read_rig: our rig YAML and OpenCV stereo calibration files (cv::FileStorage).
+// capture::read_rig: our rig YAML and OpenCV stereo calibration files (YAML or XML), read by
+// capture/rig_text.h.
 #include <cstddef>
 #include <cstdint>
 #include <exception>

@@ -98,9 +98,7 @@ case "$job" in
       fi
     }
     failed=0
-    # fuzz_rig is built but run by hand: OpenCV 4.6's YAML parser (cv::FileStorage), which
-    # read_rig uses, still hangs on some inputs within minutes (docs/fuzzing.md).
-    targets=(obj ply off gltf glb mtl json pts image)
+    targets=(obj ply off gltf glb mtl rig json pts image)
     for ((i = 0; i < ${#targets[@]}; i += jobs)); do
       pids=()
       for t in "${targets[@]:i:jobs}"; do run_one "$t" & pids+=($!); done
