@@ -20,7 +20,8 @@ Command capture_command() {
           "Take one synchronized front + side pair (nearest timestamps), save it to OUT/pair/ "
           "(front.png, side.png, pair.json), then reconstruct it into OUT/model/.",
           "orthoface capture --front DEV --side DEV --out DIR [options]",
-          {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
+          {{"front", true,
+            "DEV  front camera: /dev/videoN, libcamera:ID, sim:N/front or file:VIDEO[?loop&fps=N]"},
            {"side", true, "DEV  side camera"},
            {"out", true, "DIR  output folder"},
            {"size", true, "WxH  capture size (default 640x480)"},
@@ -68,19 +69,25 @@ int run_capture(int argc, char** argv) {
   vision::ObserveOptions plates;  // read before anything is captured
   read_clean_plates(a, plates, o.width, o.height);
   const std::string out = a.get("out");
+  const bool out_existed = std::filesystem::exists(out);
   prepare_output_dir(out);
   const std::string pair_dir = out + "/pair";
   if (std::filesystem::exists(pair_dir))
     throw std::runtime_error("capture: " + pair_dir + " already exists (choose a new --out)");
   sim::register_sim_cameras();
   std::optional<capture::FramePair> pair;
-  {
+  try {
     capture::PairCapture pc(a.get("front"), a.get("side"), o);
     pair = pc.take_pair(timeout);
+    if (!pair)
+      throw std::runtime_error("capture: no synchronized pair within " + std::to_string(timeout) +
+                               " s");
+  } catch (...) {
+    // Nothing was captured: a folder made for it goes again (remove() leaves a non-empty one).
+    std::error_code ec;
+    if (!out_existed) std::filesystem::remove(out, ec);
+    throw;
   }
-  if (!pair)
-    throw std::runtime_error("capture: no synchronized pair within " + std::to_string(timeout) +
-                             " s");
   save_pair(*pair, pair_dir);
   std::printf("pair saved: %s (skew %.1f ms)\n", pair_dir.c_str(), pair->skew_s * 1e3);
   if (a.has("no-reconstruct")) return 0;

@@ -6,6 +6,7 @@
 #include <map>
 #include <mutex>
 
+#include "capture/file_camera.h"
 #include "capture/v4l2_camera.h"
 #ifdef ORTHOFACE_HAVE_LIBCAMERA
 #include "capture/libcamera_camera.h"
@@ -57,11 +58,13 @@ std::unique_ptr<Camera> open_camera(const std::string& id) {
     throw std::runtime_error("camera " + id + ": this build has no libcamera support");
 #endif
   }
+  if (starts_with(id, "file:")) return std::make_unique<FileCamera>(id);
   if (starts_with(id, "/") || starts_with(id, ".")) return std::make_unique<V4l2Camera>(id);
   if (starts_with(id, "sim:"))
     throw std::runtime_error("camera " + id + ": the simulated rig backend is not registered");
-  throw std::runtime_error("camera " + id +
-                           ": unknown camera id (expected /dev/videoN, libcamera:ID or sim:N)");
+  throw std::runtime_error(
+      "camera " + id +
+      ": unknown camera id (expected /dev/videoN, libcamera:ID, file:PATH or sim:N)");
 }
 
 std::vector<DeviceInfo> list_devices() {

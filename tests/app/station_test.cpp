@@ -190,6 +190,39 @@ TEST(CaptureCommand, SavesOneSynchronizedPair) {
   EXPECT_FALSE(fs::exists(other / "pair"));
 }
 
+// A recorded session replayed through capture: image sequences of a simulated pair as file:
+// cameras give back the pair itself and its model.
+TEST(CaptureCommand, FileCamerasReplayARecordedPair) {
+  const auto dir = orthoface::testing::temp_dir("capture_file_cameras");
+  ASSERT_EQ(orthoface("simulate --subject 3 --out " + (dir / "sim").string()).code, 0);
+  fs::create_directories(dir / "clips");
+  for (int i = 1; i <= 3; ++i)
+    for (const char* view : {"front", "side"})
+      fs::copy_file(dir / "sim" / (std::string(view) + ".png"),
+                    dir / "clips" / (std::string(view) + "_00" + std::to_string(i) + ".png"));
+  const std::string clips = (dir / "clips").string();
+  const CmdResult r = orthoface(
+      "capture --front 'file:" + clips + "/front_%03d.png?fps=20&loop' --side 'file:" + clips +
+      "/side_%03d.png?fps=20&loop' --rig " + (dir / "sim" / "rig.yaml").string() + " --out " +
+      (dir / "cap").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  for (const char* view : {"front", "side"}) {
+    const cv::Mat shot = cv::imread((dir / "cap" / "pair" / (std::string(view) + ".png")).string());
+    const cv::Mat photo = cv::imread((dir / "sim" / (std::string(view) + ".png")).string());
+    ASSERT_EQ(shot.size(), photo.size()) << view;
+    EXPECT_EQ(cv::norm(shot, photo, cv::NORM_INF), 0) << view;
+  }
+  EXPECT_TRUE(fs::exists(dir / "cap" / "model" / "report.json")) << r.output;
+  const CmdResult bad = orthoface(
+      "capture --front file:" + clips + "/none.avi --side file:" + clips + "/side_001.png --rig " +
+      (dir / "sim" / "rig.yaml").string() + " --out " + (dir / "bad").string());
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.output.find("error: camera file:" + clips + "/none.avi: no such file"),
+            std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "bad"));
+}
+
 TEST(CalibrateCommand, BadInputGivesOneErrorLine) {
   const auto dir = orthoface::testing::temp_dir("calibrate_cmd");
   fs::create_directories(dir / "f");
