@@ -12,7 +12,6 @@
 
 #include "capture/rig_text.h"
 #include "capture/stereo_rig.h"
-#include "io/atomic_file.h"
 
 namespace orthoface::capture {
 namespace {
@@ -269,14 +268,11 @@ void write_rig(const RigCalibration& rig, const std::string& path, RigFormat for
   if (!std::filesystem::is_directory(parent))
     throw std::runtime_error("cannot write rig file " + path + ": folder " + parent.string() +
                              " does not exist");
-  io::write_atomically(path, [&](const std::string& tmp) {
-    cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
-    if (!fs.isOpened()) throw std::runtime_error("cannot open a file in its folder");
+  write_rig_text(path, [&](cv::FileStorage& fs) {
     fs << "orthoface_rig" << 1;
     fs << "source" << rig.source;
     write_camera(fs, "front", rig.front);
     write_camera(fs, "side", rig.side);
-    fs.release();
   });
 }
 

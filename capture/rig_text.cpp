@@ -1,5 +1,7 @@
 #include "capture/rig_text.h"
 
+#include "io/atomic_file.h"
+
 #include <algorithm>
 #include <cctype>
 #include <charconv>
@@ -703,6 +705,24 @@ RigNode read_rig_text(const std::string& path) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error("rig file " + path + ": " + e.what());
   }
+}
+
+void write_rig_text(const std::string& path, const std::function<void(cv::FileStorage&)>& fill) {
+  const bool xml =
+      path.size() >= 4 && std::equal(path.end() - 4, path.end(), ".xml", [](char a, char b) {
+        return std::tolower(static_cast<unsigned char>(a)) == b;
+      });
+  std::string text;
+  try {
+    cv::FileStorage fs(xml ? "rig.xml" : "rig.yaml",
+                       cv::FileStorage::WRITE | cv::FileStorage::MEMORY |
+                           (xml ? cv::FileStorage::FORMAT_XML : cv::FileStorage::FORMAT_YAML));
+    fill(fs);
+    text = fs.releaseAndGetString();
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("cannot write rig file " + path + ": " + e.err);
+  }
+  io::write_text_atomically(path, text);
 }
 
 cv::Mat matrix_from_node(const RigNode& n) {

@@ -20,7 +20,10 @@
 #include <string>
 #include <vector>
 
+#include <functional>
+
 #include <opencv2/core/mat.hpp>
+#include <opencv2/core/persistence.hpp>
 
 namespace orthoface::capture {
 
@@ -69,5 +72,11 @@ RigNode read_rig_text(const std::string& path);
 // and field): not a mapping, rows / cols not whole numbers of 1..16, dt not one channel of
 // u c w s i f d, data not exactly rows x cols numbers. Non-finite values are returned as they are.
 cv::Mat matrix_from_node(const RigNode& node);
+
+// Writes a rig file all or nothing: `fill` writes its nodes into a cv::FileStorage in memory
+// (XML when `path` ends in .xml, else YAML, the forms read_rig_text reads), and the text is then
+// written with io::write_text_atomically, whose checks see a failed last flush (a full disk)
+// that cv::FileStorage would not report. Throws std::runtime_error naming `path`.
+void write_rig_text(const std::string& path, const std::function<void(cv::FileStorage&)>& fill);
 
 }  // namespace orthoface::capture

@@ -11,7 +11,6 @@
 #include <opencv2/core/eigen.hpp>
 
 #include "capture/rig_text.h"
-#include "io/atomic_file.h"
 
 namespace orthoface::capture {
 namespace {
@@ -198,9 +197,7 @@ void write_opencv_stereo(const RigCalibration& rig, const std::string& path) {
     d.resize(5, 0.0);
     return cv::Mat(d, true).reshape(1, 1);
   };
-  io::write_atomically(path, [&](const std::string& tmp) {
-    cv::FileStorage fs(tmp, cv::FileStorage::WRITE);
-    if (!fs.isOpened()) throw std::runtime_error("cannot open a file in its folder");
+  write_rig_text(path, [&](cv::FileStorage& fs) {
     fs.writeComment(
         "OpenCV stereo calibration (orthoface): camera 1 = front, camera 2 = side; x2 = R x1 + T, "
         "T in mm. orthoface_cam1_from_head places the head frame (orthoface DESIGN.md).");
@@ -214,7 +211,6 @@ void write_opencv_stereo(const RigCalibration& rig, const std::string& path) {
     cv::eigen2cv(Eigen::Vector3d(side_from_front.translation()), t);
     cv::eigen2cv(Eigen::Matrix4d(rig.front.cam_from_head.matrix()), pose);
     fs << "R" << r << "T" << t << "orthoface_cam1_from_head" << pose;
-    fs.release();
   });
 }
 

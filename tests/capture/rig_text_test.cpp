@@ -6,9 +6,15 @@
 #include <stdexcept>
 #include <string>
 
+#include <signal.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <gtest/gtest.h>
 #include <opencv2/core.hpp>
 
+#include "capture/camera_model.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::capture {
@@ -275,6 +281,52 @@ TEST(RigText, ReadRigTextNamesTheFile) {
                                                       ": line 2: expected 'key: value', got 'b c'");
   std::ofstream(dir / "good.yaml") << "a: 1\n";
   EXPECT_EQ(read_rig_text((dir / "good.yaml").string()).find("a")->as_int(), 1);
+}
+
+TEST(RigText, WritesXmlOrYamlByExtensionAllOrNothing) {
+  const fs::path dir = testing::temp_dir("rig_text_write");
+  for (const std::string name : {"rig.xml", "rig.YAML", "rig.yml"}) {
+    const std::string path = (dir / name).string();
+    write_rig_text(path, [](cv::FileStorage& fs) {
+      fs << "a" << 1 << "b"
+         << "two words";
+    });
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(text.rfind(name == "rig.xml" ? "<?xml" : "%YAML", 0), 0u) << name << ": " << text;
+    const RigNode root = parse_rig_text(text);
+    EXPECT_EQ(root.find("a")->as_int(), 1);
+    EXPECT_EQ(root.find("b")->text, "two words");
+  }
+  // A full disk (here a 512-byte file size limit) fails the write, naming the file, and leaves
+  // the rig that was there.
+  const std::string path = (dir / "kept.yaml").string();
+  write_rig(ideal_rig(64, 48, 1.0), path);
+  std::ifstream before_in(path);
+  const std::string before((std::istreambuf_iterator<char>(before_in)),
+                           std::istreambuf_iterator<char>());
+  const pid_t child = fork();
+  if (child == 0) {
+    signal(SIGXFSZ, SIG_IGN);
+    const rlimit limit{512, 512};
+    setrlimit(RLIMIT_FSIZE, &limit);
+    try {
+      write_rig(ideal_rig(640, 480, 2.0), path);
+    } catch (const std::runtime_error& e) {
+      _exit(std::string(e.what()).find(path) != std::string::npos ? 0 : 2);
+    }
+    _exit(3);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "2: the error does not name the file, 3: no error";
+  std::ifstream after_in(path);
+  const std::string after((std::istreambuf_iterator<char>(after_in)),
+                          std::istreambuf_iterator<char>());
+  EXPECT_EQ(after, before);
+  for (const auto& entry : fs::directory_iterator(dir))
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
 }
 
 }  // namespace
