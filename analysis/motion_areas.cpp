@@ -9,6 +9,7 @@
 
 #include "analysis/geodesics.h"
 #include "analysis/mpeg4_names.h"
+#include "io/json_text.h"
 #include "vision/landmarks.h"
 
 namespace orthoface::analysis {
@@ -115,12 +116,20 @@ Segmentation segment_by_feature_points(const mesh::TriMesh& mesh,
 
 namespace {
 
-FeaturePoint parse_point(const std::string& path, const std::string& name,
+// The point `name` at `field` ("9.3", "points[2].position") of the file `path`.
+FeaturePoint parse_point(const std::string& path, const std::string& name, const std::string& field,
                          const nlohmann::json& pos) {
-  if (!pos.is_array() || pos.size() != 3 || !pos[0].is_number() || !pos[1].is_number() ||
-      !pos[2].is_number())
-    throw std::runtime_error(path + ": point '" + name + "' needs a position [x, y, z]");
-  return {name, Eigen::Vector3d(pos[0].get<double>(), pos[1].get<double>(), pos[2].get<double>())};
+  if (!pos.is_array() || pos.size() != 3)
+    throw std::runtime_error(path + ": " + io::json_type_error(field, "a position [x, y, z]", pos));
+  Eigen::Vector3d p;
+  for (int k = 0; k < 3; ++k) {
+    const std::string item = field + "[" + std::to_string(k) + "]";
+    if (!pos[k].is_number())
+      throw std::runtime_error(path + ": " + io::json_type_error(item, "a number", pos[k]));
+    p[k] = pos[k].get<double>();
+    if (!std::isfinite(p[k])) throw std::runtime_error(path + ": " + item + ": not finite");
+  }
+  return {name, p};
 }
 
 }  // namespace
@@ -132,22 +141,29 @@ std::vector<FeaturePoint> read_feature_points(const std::string& path, bool allo
   try {
     j = nlohmann::json::parse(in);
   } catch (const std::exception& e) {
-    throw std::runtime_error(path + ": not valid JSON (" + e.what() + ")");
+    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
   }
   std::vector<FeaturePoint> out;
   const char* list_key = j.contains("feature_points") ? "feature_points" : "points";
   if (j.is_object() && j.contains(list_key) && j[list_key].is_array()) {
-    for (const auto& e : j[list_key]) {
-      if (!e.is_object() || !e.contains("name") || !e["name"].is_string() ||
-          !e.contains("position"))
-        throw std::runtime_error(path + ": each entry of '" + list_key +
-                                 "' needs \"name\" and \"position\"");
-      out.push_back(parse_point(path, e["name"].get<std::string>(), e["position"]));
+    const nlohmann::json& list = j[list_key];
+    for (size_t i = 0; i < list.size(); ++i) {
+      const nlohmann::json& e = list[i];
+      const std::string at = std::string(list_key) + "[" + std::to_string(i) + "]";
+      if (!e.is_object() || !e.contains("name") || !e.contains("position"))
+        throw std::runtime_error(path + ": " + at + ": expected an object with \"name\" and " +
+                                 "\"position\", got " + io::json_type_name(e));
+      if (!e["name"].is_string())
+        throw std::runtime_error(path + ": " +
+                                 io::json_type_error(at + ".name", "a string", e["name"]));
+      out.push_back(
+          parse_point(path, e["name"].get<std::string>(), at + ".position", e["position"]));
     }
   } else if (j.is_object()) {
-    for (const auto& [name, pos] : j.items()) out.push_back(parse_point(path, name, pos));
+    for (const auto& [name, pos] : j.items()) out.push_back(parse_point(path, name, name, pos));
   } else {
-    throw std::runtime_error(path + ": expected a JSON object of feature points");
+    throw std::runtime_error(path + ": " +
+                             io::json_type_error("top level", "an object of feature points", j));
   }
   if (out.empty()) throw std::runtime_error(path + ": no feature points");
   std::string unknown;

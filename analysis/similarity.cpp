@@ -1,10 +1,15 @@
 // Seed 003: geodesic network around the nose tip + curvature metrics -> similarity scores.
 #include "analysis/similarity.h"
 
-#include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <stdexcept>
+#include <string>
+#include <utility>
+
+#include <Eigen/Geometry>
 
 #include "analysis/analysis_mesh.h"
 #include "analysis/curvature.h"
@@ -179,20 +184,53 @@ FaceSignature face_signature(const mesh::TriMesh& mesh, const SimilarityOptions&
 
 namespace {
 
+double mean_of(const std::vector<double>& a) {
+  double m = 0;
+  for (double x : a) m += x / double(a.size());
+  return m;
+}
+
+// The sum of squared deviations from the mean `m` of `a` is large enough to divide by: more
+// than rounding noise of the values themselves (a constant metric is a few ulps from its mean).
+bool varies(const std::vector<double>& a, double m) {
+  double saa = 0;
+  for (double x : a) saa += (x - m) * (x - m);
+  return std::isfinite(saa) && saa > 1e-24 * std::max(1.0, m * m) * double(a.size());
+}
+
 double abs_correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = double(a.size());
-  double ma = 0, mb = 0;
-  for (size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
+  const double ma = mean_of(a), mb = mean_of(b);
+  if (!varies(a, ma) || !varies(b, mb)) return std::numeric_limits<double>::quiet_NaN();
   double sab = 0, saa = 0, sbb = 0;
   for (size_t i = 0; i < a.size(); ++i)
     sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma),
         sbb += (b[i] - mb) * (b[i] - mb);
-  const double scale = 1e-24 * std::max(1.0, ma * ma + mb * mb) * n;
-  if (saa <= scale || sbb <= scale) return std::numeric_limits<double>::quiet_NaN();
-  return std::abs(sab / std::sqrt(saa * sbb));  // seed 003 eq. 17, absolute value (§6)
+  // seed 003 eq. 17, absolute value (§6); Cauchy-Schwarz bounds it by 1 up to rounding
+  return std::min(1.0, std::abs(sab / (std::sqrt(saa) * std::sqrt(sbb))));
 }
 
 }  // namespace
+
+std::string signature_problem(const FaceSignature& s) {
+  if (s.mean.empty()) return "no network points";
+  const std::pair<const char*, const std::vector<double>*> metrics[] = {
+      {"mean curvature", &s.mean},
+      {"Gaussian curvature", &s.gaussian},
+      {"shape index", &s.shape_index},
+      {"curvedness", &s.curvedness}};
+  for (const auto& [name, values] : metrics) {
+    if (values->size() != s.mean.size())
+      return std::string("its ") + name + " has " + std::to_string(values->size()) +
+             " values for " + std::to_string(s.mean.size()) + " network points";
+    for (double x : *values)
+      if (!std::isfinite(x)) return std::string("its ") + name + " is not finite everywhere";
+    if (!varies(*values, mean_of(*values)))
+      return std::string("its ") + name +
+             " is the same at every network point (a sphere or a plane?): a similarity to it "
+             "is undefined";
+  }
+  return "";
+}
 
 SimilarityScores similarity(const FaceSignature& a, const FaceSignature& b) {
   if (a.mean.size() != b.mean.size() || a.mean.empty())

@@ -35,9 +35,15 @@ struct FaceSignature {
 // small for the network (e.g. a boundary right next to it).
 FaceSignature face_signature(const mesh::TriMesh& mesh, const SimilarityOptions& options = {});
 
+// What makes `s` unfit for similarity(), or "" when it is fit: no network points, a metric
+// that is not finite somewhere, or one that is the same at every network point (a sphere or a
+// plane: a correlation with it is undefined). Two signatures of the same options that both give
+// "" always score finite numbers in [0, 1].
+std::string signature_problem(const FaceSignature& s);
+
 // |Pearson correlation| of each metric over corresponding network points (seed 003 eq. 17),
-// in [0, 1]; NaN for a metric that is constant on either face (e.g. a sphere). Throws
-// std::invalid_argument when the networks differ in size.
+// in [0, 1]; NaN for a metric that is constant on either face (e.g. a sphere; see
+// signature_problem). Throws std::invalid_argument when the networks differ in size.
 struct SimilarityScores {
   double mean = 0, gaussian = 0, shape_index = 0, curvedness = 0;
 };

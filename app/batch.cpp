@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,10 +18,12 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "analysis/similarity.h"
+#include "app/cli.h"
 #include "capture/camera_model.h"
 #include "io/atomic_file.h"
 #include "mesh/mesh_io.h"
 #include "reconstruct/reconstruction.h"
+#include "vision/image_prep.h"
 
 namespace fs = std::filesystem;
 using namespace orthoface;
@@ -163,24 +167,32 @@ int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, in
       o.force = force;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
-      // The photos, then the clean plates (the cameras' empty scenes) when the item has them.
+      // The photos, then the clean plates (the cameras' empty scenes) when the item has them,
+      // read as `orthoface reconstruct` reads them (grey, 16-bit, RGBA converted; sizes checked).
       const char* stems[] = {"front", "side", "front_background", "side_background"};
       cv::Mat photos[4];
+      std::string names;  // the files a failure of the pair is about
       for (int k = 0; k < 4; ++k) {
         const fs::path p = item_photo(items[i], stems[k], k >= 2);
         if (p.empty()) continue;
-        photos[k] = cv::imread(p.string(), cv::IMREAD_COLOR);
-        if (photos[k].empty())
-          throw std::runtime_error(p.filename().string() + ": not a readable image");
+        photos[k] = vision::read_image(p.string());
+        names += (names.empty() ? "" : ", ") + p.filename().string();
       }
       o.observe.background_front = photos[2];
       o.observe.background_side = photos[3];
-      const reconstruct::Reconstruction r = reconstruct::from_photos(photos[0], photos[1], o);
+      reconstruct::Reconstruction r;
+      try {
+        r = reconstruct::from_photos(photos[0], photos[1], o);
+      } catch (const reconstruct::InputRefused& e) {  // keeps "input check NAME:" first
+        throw reconstruct::InputRefused(e.check(), names + ": " + e.problem());
+      } catch (const std::exception& e) {
+        throw std::runtime_error(names + ": " + e.what());
+      }
       reconstruct::write_reconstruction(r, (out / items[i].filename()).string());
       status[i] = 1.0;
     } catch (const std::exception& e) {
-      errors[i] = e.what();
-      std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
+      errors[i] = app::one_line(e.what());
+      std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), errors[i].c_str());
     }
     ms[i] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -215,6 +227,10 @@ int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, in
   return ok == n ? 0 : 1;
 }
 
+// The matrices hold the meshes that gave a usable signature; one that failed (unreadable, no
+// surface around the nose tip, a metric that is the same everywhere) is an error line naming it
+// and an entry in batch_report.json, never a NaN row. Every output is written together or not
+// at all.
 int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, int size) {
   std::vector<fs::path> items;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -227,20 +243,30 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   const int n = int(items.size());
   if (n < 2) throw std::runtime_error(dir.string() + ": needs at least two meshes");
   const analysis::SimilarityOptions options;
-  const int len = options.iso_geodesics * options.radial_geodesics;
+  const size_t len = size_t(options.iso_geodesics) * size_t(options.radial_geodesics);
   // Each rank builds the signatures of its meshes; rank 0 gets all metric vectors (4 x len).
   std::vector<double> metrics(size_t(n) * 4 * len, 0.0), status(n, 0.0), ms(n, 0.0);
+  std::vector<std::string> errors(n);
   Progress progress{n, 0};
   for (int i : my_items(n, rank, size)) {
     const auto t0 = std::chrono::steady_clock::now();
     try {
       const auto s = analysis::face_signature(mesh::read_mesh(items[i].string()), options);
+      if (s.mean.size() != len)
+        throw std::runtime_error("its network has " + std::to_string(s.mean.size()) +
+                                 " points, not " + std::to_string(len));
+      const std::string problem = analysis::signature_problem(s);
+      if (!problem.empty()) throw std::runtime_error(problem);
       const std::vector<double>* parts[] = {&s.mean, &s.gaussian, &s.shape_index, &s.curvedness};
       for (int k = 0; k < 4; ++k)
         std::copy(parts[k]->begin(), parts[k]->end(), metrics.begin() + (size_t(i) * 4 + k) * len);
       status[i] = 1.0;
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "\nerror: %s: %s\n", items[i].string().c_str(), e.what());
+      // A reader's message names the file already.
+      const std::string name = items[i].string(), what = e.what();
+      errors[i] = what;
+      std::fprintf(stderr, "\nerror: %s\n",
+                   (what.rfind(name, 0) == 0 ? what : name + ": " + what).c_str());
     }
     ms[i] =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -249,35 +275,64 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   std::vector<double> all(metrics.size());
   MPI_Reduce(metrics.data(), all.data(), int(all.size()), MPI_DOUBLE, MPI_SUM, 0, MPI_COMM_WORLD);
   gather_status(status, ms);
+  gather_errors(errors, rank, size);
   if (rank != 0) return 0;
   while (progress.done < n) progress.poll();
+  std::vector<int> good;  // the meshes in the matrices
+  for (int i = 0; i < n; ++i)
+    if (status[i] > 0.5) good.push_back(i);
+  nlohmann::json j{{"ranks", size}, {"meshes", n}};
+  for (int i = 0; i < n; ++i) {
+    nlohmann::json item{
+        {"name", items[i].filename().string()}, {"ok", status[i] > 0.5}, {"ms", ms[i]}};
+    if (status[i] <= 0.5) item["error"] = errors[i];
+    j["items"].push_back(item);
+  }
+  j["ok"] = good.size();
+  j["failed"] = n - int(good.size());
   const char* names[] = {"mean", "gaussian", "shape_index", "curvedness"};
-  for (int k = 0; k < 4; ++k) {
-    std::ofstream csv(out / (std::string("similarity_") + names[k] + ".csv"));
-    csv << "mesh";
-    for (const auto& p : items) csv << "," << p.filename().string();
-    csv << "\n";
-    for (int i = 0; i < n; ++i) {
-      csv << items[i].filename().string();
-      for (int j = 0; j < n; ++j) {
-        analysis::FaceSignature a, b;
-        auto fill = [&](analysis::FaceSignature& s, int m) {
-          s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len,
-                        all.begin() + (size_t(m) * 4 + k + 1) * len);
-          s.gaussian = s.shape_index = s.curvedness = s.mean;
-        };
-        fill(a, i), fill(b, j);
-        const double v = status[i] > 0.5 && status[j] > 0.5 ? analysis::similarity(a, b).mean : NAN;
-        csv << "," << v;
-      }
+  std::vector<std::string> csvs(4);
+  if (good.size() >= 2) {
+    for (int k = 0; k < 4; ++k) {
+      std::ostringstream csv;
+      csv << "mesh";
+      for (int i : good) csv << "," << items[i].filename().string();
       csv << "\n";
+      auto signature = [&](int m) {
+        analysis::FaceSignature s;
+        s.mean.assign(all.begin() + (size_t(m) * 4 + k) * len,
+                      all.begin() + (size_t(m) * 4 + k + 1) * len);
+        s.gaussian = s.shape_index = s.curvedness = s.mean;
+        return s;
+      };
+      for (int a : good) {
+        csv << items[a].filename().string();
+        for (int b : good) {
+          const double v = analysis::similarity(signature(a), signature(b)).mean;
+          if (!std::isfinite(v))  // signature_problem rules this out; never written as NaN
+            throw std::runtime_error("mesh " + items[a].string() + " and mesh " +
+                                     items[b].string() + ": " + names[k] +
+                                     " similarity is not a number");
+          csv << "," << v;
+        }
+        csv << "\n";
+      }
+      csvs[k] = csv.str();
     }
   }
-  int ok = 0;
-  for (double s : status) ok += s > 0.5;
-  std::printf("batch: %d / %d signatures on %d rank(s) -> %s/similarity_*.csv\n", ok, n, size,
-              out.c_str());
-  return ok == n ? 0 : 1;
+  io::FileGroup outputs;  // the matrices and the report, or none of them (a full disk)
+  for (int k = 0; k < 4 && good.size() >= 2; ++k)
+    io::write_text_atomically((out / (std::string("similarity_") + names[k] + ".csv")).string(),
+                              csvs[k]);
+  io::write_text_atomically((out / "batch_report.json").string(), j.dump(2) + "\n");
+  outputs.commit();
+  if (good.size() < 2)
+    std::printf("batch: %zu / %d signatures on %d rank(s); no matrix (it needs two) -> %s\n",
+                good.size(), n, size, (out / "batch_report.json").c_str());
+  else
+    std::printf("batch: %zu / %d signatures on %d rank(s) -> %s/similarity_*.csv\n", good.size(), n,
+                size, out.c_str());
+  return int(good.size()) == n ? 0 : 1;
 }
 
 }  // namespace

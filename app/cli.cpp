@@ -129,15 +129,19 @@ std::pair<int, int> to_size(const std::string& flag, const std::string& text, in
   }
 }
 
-void prepare_output_dir(const std::string& dir) {
+void prepare_output_dir(const std::string& dir, io::FileGroup* group) {
   namespace fs = std::filesystem;
   if (dir.empty()) throw std::runtime_error("output folder: empty path");
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     throw std::runtime_error("output folder " + dir + ": exists and is not a folder");
-  fs::create_directories(dir, ec);
-  if (ec)
-    throw std::runtime_error("output folder " + dir + ": cannot create (" + ec.message() + ")");
+  if (group) {
+    group->create_folders(dir);
+  } else {
+    fs::create_directories(dir, ec);
+    if (ec)
+      throw std::runtime_error("output folder " + dir + ": cannot create (" + ec.message() + ")");
+  }
   const fs::path probe = fs::path(dir) / ".orthoface-write-probe";
   {
     std::ofstream f(probe);

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "io/atomic_file.h"
 #include "vision/observe.h"
 
 namespace orthoface::app {
@@ -46,8 +47,10 @@ double to_double(const std::string& flag, const std::string& text, double min, d
 std::pair<int, int> to_size(const std::string& flag, const std::string& text, int max_side);
 
 // Makes `dir` usable as an output folder (creates it and its parents). Throws
-// std::runtime_error if it exists as a file or cannot be created or written.
-void prepare_output_dir(const std::string& dir);
+// std::runtime_error if it exists as a file or cannot be created or written. With `group`, the
+// folders created are removed again when the group's files are not committed (a failed run
+// leaves no empty output folder behind).
+void prepare_output_dir(const std::string& dir, io::FileGroup* group = nullptr);
 
 // Throws std::runtime_error when `path` is missing or not a regular file; `what` names it.
 void require_file(const std::string& path, const std::string& what);

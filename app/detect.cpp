@@ -15,6 +15,7 @@
 #include "vision/observation_io.h"
 #include "vision/observe.h"
 #include "vision/overlay.h"
+#include "vision/pair_check.h"
 #include "vision/pts_io.h"
 
 namespace orthoface::app {
@@ -112,13 +113,22 @@ int run_detect(int argc, char** argv) {
                 (args.has(plate) ? " (clean plate '" + args.get(plate) + "')" : std::string());
   }
   if (!faceless.empty()) throw std::runtime_error("no face found in " + faceless);
+  // A side photo whose subject has other colours than the front's is not this head in profile
+  // (a skin-coloured blob passes the profile fit): the same check reconstruct refuses it with.
+  const vision::PairCheck pair = vision::check_pair(vision::measure_pair(front, side, obs));
+  for (const vision::InputCheck& c : pair.checks)
+    if (c.name == "same_person_colours" && !c.passed)
+      throw std::runtime_error("input check " + c.name + ": front '" + args.get("front") +
+                               "', side '" + args.get("side") + "': " + c.problem);
   const std::filesystem::path out = args.get("out");
-  prepare_output_dir(out.string());
+  io::FileGroup outputs;  // all of them or none (a full disk half-way)
+  prepare_output_dir(out.string(), &outputs);
   vision::write_observation(obs, (out / "observation.json").string());
   io::write_image_atomically((out / "overlay_front.png").string(),
                              vision::overlay_front(front, obs));
   io::write_image_atomically((out / "overlay_side.png").string(), vision::overlay_side(side, obs));
   if (args.has("pts")) vision::write_pts(front_pts(obs), args.get("pts"));
+  outputs.commit();
   std::string missing;
   const bool complete = vision::is_complete(obs, &missing);
   std::cout << "detect: front boundary " << obs.front.boundary.size() << " points, side profile "

@@ -72,7 +72,8 @@ int run_features(int argc, char** argv) {
   const analysis::FeatureReport r = analysis::mpeg4_features(mesh, options);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const std::filesystem::path dir = args.get("o");
-  prepare_output_dir(dir.string());
+  io::FileGroup outputs;  // all of them or none (a full disk half-way)
+  prepare_output_dir(dir.string(), &outputs);
   nlohmann::json j = nlohmann::json::parse(analysis::feature_report_json(mesh, r));
   j["mesh"] = path;
   j["seconds"] = secs;
@@ -84,6 +85,7 @@ int run_features(int argc, char** argv) {
              std::to_string(r.ratio[v]) + "\n";
   io::write_text_atomically((dir / "clusters.csv").string(), csv);
   io::write_image_atomically((dir / "features.png").string(), picture(mesh, r, size));
+  outputs.commit();
   std::printf("features: %zu points found, %zu missing / notes, %.2f s -> %s\n", r.points.size(),
               r.missing.size(), secs, dir.string().c_str());
   for (const auto& m : r.missing) std::printf("  %s\n", m.c_str());

@@ -62,7 +62,8 @@ int run_segment(int argc, char** argv) {
   const auto points = analysis::read_feature_points(args.get("points"), args.has("any-names"));
   const analysis::Segmentation s = analysis::segment_by_feature_points(mesh, points, options);
   const std::filesystem::path dir = args.get("o");
-  prepare_output_dir(dir.string());
+  io::FileGroup outputs;  // all of them or none (a full disk half-way)
+  prepare_output_dir(dir.string(), &outputs);
   std::string csv = "fp,name,n,percent\n";  // seed 001 Table V
   nlohmann::json table = nlohmann::json::array();
   for (size_t p = 0; p < points.size(); ++p) {
@@ -97,6 +98,7 @@ int run_segment(int argc, char** argv) {
     }
     io::write_text_atomically((dir / "weights.json").string(), w.dump() + "\n");
   }
+  outputs.commit();
   std::printf("segment: %zu vertices into %zu areas -> %s\n", mesh.vertices.size(), points.size(),
               dir.string().c_str());
   return 0;

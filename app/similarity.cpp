@@ -73,6 +73,8 @@ int run_similarity(int argc, char** argv) {
     const mesh::TriMesh m = mesh::read_mesh(f);  // its errors name the file
     try {
       sig.push_back(analysis::face_signature(m, options));
+      const std::string problem = analysis::signature_problem(sig.back());
+      if (!problem.empty()) throw std::runtime_error(problem);  // a NaN score otherwise
     } catch (const std::exception& e) {
       throw std::runtime_error("mesh " + f + ": " + e.what());
     }
@@ -89,7 +91,8 @@ int run_similarity(int argc, char** argv) {
                 s[0][1].shape_index, s[0][1].curvedness);
   if (!args.has("o")) return 0;
   const std::filesystem::path dir = args.get("o");
-  prepare_output_dir(dir.string());
+  io::FileGroup outputs;  // all of them or none (a full disk half-way)
+  prepare_output_dir(dir.string(), &outputs);
   for (int k = 0; k < 4; ++k) {
     std::string csv = "mesh";
     for (const auto& f : files) csv += "," + f;
@@ -108,6 +111,7 @@ int run_similarity(int argc, char** argv) {
     if (k == 2)
       io::write_image_atomically((dir / "similarity_shape_index.png").string(), heat_map(m));
   }
+  outputs.commit();
   std::printf("similarity: %zu meshes -> %s\n", n, dir.string().c_str());
   return 0;
 }

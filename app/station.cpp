@@ -45,7 +45,8 @@ Command station_command() {
       "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
       "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
       "window|http:PORT|v4l2:/dev/videoN]",
-      {{"front", true, "DEV  front camera: /dev/videoN, libcamera:ID or sim:N/front"},
+      {{"front", true,
+        "DEV  front camera: /dev/videoN, libcamera:ID, sim:N/front or file:VIDEO[?loop&fps=N]"},
        {"side", true, "DEV  side camera"},
        {"yaw", true,
         "DEG  rotated view yaw, -90..90 (default 30); with --output http: the page's sliders "
@@ -70,7 +71,8 @@ struct Settings {
   std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
   int width = 640, height = 480, refit_every = 0, retexture_every = 1;
-  vision::ObserveOptions observe;  // the clean plates for the refits
+  vision::ObserveOptions observe;              // the clean plates for the refits
+  std::optional<capture::RigCalibration> rig;  // --rig, or the simulated rig for sim: cameras
 };
 
 Settings settings_from(const Args& a) {
@@ -95,6 +97,9 @@ Settings settings_from(const Args& a) {
   s.bind = a.get("bind", s.bind);
   s.out = a.get("out", s.out);
   if (a.has("rig")) require_file(a.get("rig"), "--rig"), s.rig_file = a.get("rig");
+  // Read here, before a port is bound, the output folder made or a camera opened: a bad rig
+  // file costs nothing and leaves nothing behind.
+  s.rig = station_rig(s.rig_file, s.front, s.side, s.width, s.height);
   read_clean_plates(a, s.observe, s.width, s.height);
   const bool ok =
       s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
@@ -152,7 +157,7 @@ Station::Station(const Settings& s) : s_(s) {
   if (s_.output.rfind("v4l2:", 0) == 0)
     v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
   prepare_output_dir(s_.out);
-  rig_ = station_rig(s_.rig_file, s_.front, s_.side, s_.width, s_.height);
+  rig_ = s_.rig;
   capture::PairCaptureOptions o;
   o.width = s_.width;
   o.height = s_.height;

@@ -14,6 +14,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// The outermost open group of this thread, or null.
+thread_local FileGroup* current_group = nullptr;
+
 void remove_quietly(const std::string& path) {
   std::error_code ec;
   fs::remove(path, ec);
@@ -44,6 +47,18 @@ void write_atomically(const std::string& path,
   } catch (const std::exception& e) {
     remove_quietly(tmp);
     throw std::runtime_error("cannot write " + path + ": " + e.what());
+  } catch (...) {  // not ours to interpret, but the temporary must still go
+    remove_quietly(tmp);
+    throw;
+  }
+  if (FileGroup* group = current_group) {
+    try {
+      group->files_.emplace_back(tmp, path);
+    } catch (...) {
+      remove_quietly(tmp);
+      throw;
+    }
+    return;
   }
   std::error_code ec;
   fs::rename(tmp, path, ec);
@@ -59,7 +74,8 @@ void write_stream_atomically(const std::string& path,
     std::ofstream out(tmp, std::ios::binary);
     if (!out) throw std::runtime_error("cannot open a file in its folder");
     write(out);
-    out.close();
+    if (!out) throw std::runtime_error("write failed (disk full?)");
+    out.close();  // the last buffered bytes: a full disk often shows only here
     if (!out) throw std::runtime_error("write failed (disk full?)");
   });
 }
@@ -70,15 +86,81 @@ void write_text_atomically(const std::string& path, const std::string& text) {
 
 void write_image_atomically(const std::string& path, const cv::Mat& image) {
   if (image.empty()) throw std::runtime_error("cannot write " + path + ": empty image");
-  write_atomically(path, [&](const std::string& tmp) {
-    bool ok = false;
-    try {
-      ok = cv::imwrite(tmp, image);
-    } catch (const cv::Exception& e) {
-      throw std::runtime_error("cannot encode the image (" + std::string(e.err) + ")");
-    }
-    if (!ok) throw std::runtime_error("cannot encode or write the image");
+  // Encoded in memory: cv::imwrite ignores a failed final flush and would report a truncated
+  // file as written.
+  std::vector<uchar> bytes;
+  try {
+    if (!cv::imencode(fs::path(path).extension().string(), image, bytes))
+      throw std::runtime_error("cannot write " + path + ": cannot encode the image");
+  } catch (const cv::Exception& e) {
+    throw std::runtime_error("cannot write " + path + ": cannot encode the image (" +
+                             std::string(e.err) + ")");
+  }
+  write_stream_atomically(path, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   });
+}
+
+FileGroup::FileGroup() {
+  if (current_group) {
+    outer_ = current_group;
+    done_ = true;
+  } else {
+    current_group = this;
+  }
+}
+
+FileGroup::~FileGroup() {
+  if (current_group == this) current_group = nullptr;
+  if (done_) return;
+  for (const auto& f : files_) remove_quietly(f.first);
+  for (auto it = folders_.rbegin(); it != folders_.rend(); ++it) {
+    std::error_code ec;
+    if (fs::is_empty(*it, ec) && !ec) fs::remove(*it, ec);
+  }
+}
+
+void FileGroup::create_folders(const std::string& dir) {
+  if (outer_) return outer_->create_folders(dir);
+  if (dir.empty()) throw std::runtime_error("output folder: empty path");
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+    throw std::runtime_error("output folder " + dir + ": exists and is not a folder");
+  std::vector<fs::path> missing;  // outermost last
+  for (fs::path p = fs::absolute(dir, ec).lexically_normal(); !p.empty() && !fs::exists(p, ec);
+       p = p.parent_path()) {
+    missing.push_back(p);
+    if (p == p.parent_path()) break;
+  }
+  fs::create_directories(dir, ec);
+  for (auto it = missing.rbegin(); it != missing.rend(); ++it)
+    if (fs::is_directory(*it)) folders_.push_back(it->string());
+  if (ec)
+    throw std::runtime_error("output folder " + dir + ": cannot create (" + ec.message() + ")");
+}
+
+void FileGroup::commit() {
+  if (outer_) return;
+  if (current_group == this) current_group = nullptr;  // later writes are on their own
+  done_ = true;
+  for (size_t i = 0; i < files_.size(); ++i) {
+    std::error_code ec;
+    fs::rename(files_[i].first, files_[i].second, ec);
+    if (ec) {
+      for (size_t k = i; k < files_.size(); ++k) remove_quietly(files_[k].first);
+      const std::string target = files_[i].second;
+      files_.clear();
+      throw std::runtime_error("cannot write " + target + ": " + ec.message());
+    }
+  }
+  files_.clear();
+}
+
+std::vector<std::string> FileGroup::pending() const {
+  if (outer_) return outer_->pending();
+  std::vector<std::string> out;
+  for (const auto& f : files_) out.push_back(f.second);
+  return out;
 }
 
 }  // namespace orthoface::io

@@ -18,6 +18,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/atomic_file.h"
 #include "mesh/mesh_io_detail.h"
 
 namespace orthoface::mesh {
@@ -262,10 +263,13 @@ TriMesh read_mesh(const std::string& path, const MeshReadOptions& options) {
 void write_mesh(const TriMesh& mesh, const std::string& path, const MeshWriteOptions& options) {
   check_mesh(mesh, "write_mesh " + path);
   const std::string ext = lower_extension(path);
-  if (ext == ".obj") return io::write_obj(mesh, path);
-  if (ext == ".ply") return io::write_ply(mesh, path, options.binary);
-  if (ext == ".off") return io::write_off(mesh, path);
-  io::fail(path, "cannot write mesh format '" + ext + "' (expected .obj, .ply or .off)");
+  if (ext != ".obj" && ext != ".ply" && ext != ".off")
+    io::fail(path, "cannot write mesh format '" + ext + "' (expected .obj, .ply or .off)");
+  orthoface::io::FileGroup files;  // the mesh with its .mtl and texture, or none of them
+  if (ext == ".obj") io::write_obj(mesh, path);
+  if (ext == ".ply") io::write_ply(mesh, path, options.binary);
+  if (ext == ".off") io::write_off(mesh, path);
+  files.commit();
 }
 
 }  // namespace orthoface::mesh

@@ -31,7 +31,8 @@ struct MeshWriteOptions {
 
 // Writes .obj (+ <stem>.mtl and <stem>.png when the mesh has a texture and uvs), .ply (colours
 // as uchar red/green/blue, uvs as float s t) or .off (COFF with colours). Every file is written
-// to a temporary beside it (io::temp_path_for) and renamed, so a failure leaves no partial output.
+// to a temporary beside it (io::temp_path_for), and all are renamed together at the end
+// (io::FileGroup), so a failure leaves no partial output and no texture without its mesh.
 // Throws std::invalid_argument for an invalid mesh (check_mesh) and std::runtime_error for an
 // unknown extension or IO error.
 void write_mesh(const TriMesh& mesh, const std::string& path, const MeshWriteOptions& options = {});

@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "io/atomic_file.h"
+#include "io/json_text.h"
 #include "mesh/mesh_io.h"
 #include "mesh/topology.h"
 #include "model/head_hull.h"
@@ -26,15 +27,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// Through io/atomic_file.h: a write that fails anywhere, even in the last flush, is an error
+// (a plain stream's destructor and cv::imwrite both ignore that one).
 void write_json(const nlohmann::json& j, const fs::path& path) {
-  std::ofstream f(path);
-  f << j.dump(2) << "\n";
-  if (!f) throw std::runtime_error("cannot write " + path.string());
+  io::write_text_atomically(path.string(), j.dump(2) + "\n");
 }
 
 void write_png(const cv::Mat& image, const fs::path& path) {
   if (image.empty()) return;
-  if (!cv::imwrite(path.string(), image)) throw std::runtime_error("cannot write " + path.string());
+  io::write_image_atomically(path.string(), image);
 }
 
 nlohmann::json landmarks_json(const Reconstruction& r) {
@@ -123,16 +124,28 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
     }
     if (!r.front_plate.empty()) write_png(r.front_plate, tmp / "background_front.png");
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());
+    // cv::FileStorage does not report a failed last flush (a full disk): read back.
+    capture::read_rig((tmp / "rig.yaml").string());
     vision::write_observation(r.observation, (tmp / "observation.json").string());
     write_json(landmarks_json(r), tmp / "landmarks.json");
     write_json(report_object(r), tmp / "report.json");
-    fs::create_directories(out);
-    for (const auto& e : fs::directory_iterator(tmp))
-      fs::rename(e.path(), out / e.path().filename());
-    fs::remove_all(tmp);
+    // A new folder is the staging folder renamed; into an existing one the files move one by
+    // one (a rename within a folder needs no space).
+    fs::rename(tmp, out, ec);
+    if (ec) {
+      fs::create_directories(out);
+      for (const auto& e : fs::directory_iterator(tmp))
+        fs::rename(e.path(), out / e.path().filename());
+      fs::remove_all(tmp);
+    }
   } catch (const std::exception& e) {
     fs::remove_all(tmp, ec);
-    throw std::runtime_error(std::string("cannot write reconstruction ") + dir + ": " + e.what());
+    // The message names the files where they were to go, not the staging folder.
+    std::string why = e.what();
+    for (size_t i = why.find(tmp.string()); i != std::string::npos;
+         i = why.find(tmp.string(), i + out.string().size()))
+      why.replace(i, tmp.string().size(), out.string());
+    throw std::runtime_error("cannot write reconstruction " + dir + ": " + why);
   }
 }
 
@@ -224,15 +237,31 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
   std::ifstream f(path);
   if (!f) throw std::runtime_error("cannot read " + path);
-  std::map<std::string, Eigen::Vector3d> out;
+  nlohmann::json j;
   try {
-    const nlohmann::json j = nlohmann::json::parse(f);
-    for (const auto& [name, v] : j.at("landmarks").items()) {
-      const auto& p = v.at("xyz_mm");
-      out[name] = {p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>()};
+    j = nlohmann::json::parse(f);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
+  }
+  auto fail = [&](const std::string& what) { throw std::runtime_error(path + ": " + what); };
+  if (!j.is_object()) fail(io::json_type_error("top level", "an object", j));
+  if (!j.contains("landmarks")) fail("landmarks: missing");
+  const nlohmann::json& landmarks = j["landmarks"];
+  if (!landmarks.is_object()) fail(io::json_type_error("landmarks", "an object", landmarks));
+  std::map<std::string, Eigen::Vector3d> out;
+  for (const auto& [name, v] : landmarks.items()) {
+    const std::string field = "landmarks." + name;
+    if (!v.is_object()) fail(io::json_type_error(field, "an object", v));
+    if (!v.contains("xyz_mm")) fail(field + ".xyz_mm: missing");
+    const nlohmann::json& p = v["xyz_mm"];
+    if (!p.is_array() || p.size() != 3)
+      fail(io::json_type_error(field + ".xyz_mm", "an array of 3 numbers", p));
+    for (int k = 0; k < 3; ++k) {
+      const std::string item = field + ".xyz_mm[" + std::to_string(k) + "]";
+      if (!p[k].is_number()) fail(io::json_type_error(item, "a number", p[k]));
+      out[name][k] = p[k].get<double>();
+      if (!std::isfinite(out[name][k])) fail(item + ": expected a finite number");
     }
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(path + ": malformed landmarks (" + std::string(e.what()) + ")");
   }
   return out;
 }

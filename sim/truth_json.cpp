@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
+#include "io/json_text.h"
 
 namespace orthoface::sim {
 namespace {
@@ -27,28 +28,34 @@ struct Reader {
   }
   double num(const json& j, const std::string& key, const std::string& field) const {
     const json& v = at(j, key, field);
-    if (!v.is_number() || !std::isfinite(v.get<double>())) fail(field, "expected a finite number");
+    if (!v.is_number()) fail(field, "expected a number, got " + io::json_type_name(v));
+    if (!std::isfinite(v.get<double>())) fail(field, "expected a finite number");
     return v.get<double>();
   }
   bool flag(const json& j, const std::string& key, const std::string& field) const {
     const json& v = at(j, key, field);
-    if (!v.is_boolean()) fail(field, "expected true or false");
+    if (!v.is_boolean()) fail(field, "expected true or false, got " + io::json_type_name(v));
     return v.get<bool>();
   }
   std::string text(const json& j, const std::string& key, const std::string& field) const {
     const json& v = at(j, key, field);
-    if (!v.is_string()) fail(field, "expected a string");
+    if (!v.is_string()) fail(field, "expected a string, got " + io::json_type_name(v));
     return v.get<std::string>();
   }
   Eigen::VectorXd vec(const json& j, const std::string& key, const std::string& field,
                       int n) const {
     const json& v = at(j, key, field);
     if (!v.is_array() || static_cast<int>(v.size()) != n)
-      fail(field, "expected an array of " + std::to_string(n) + " numbers");
+      fail(field,
+           "expected an array of " + std::to_string(n) + " numbers, got " +
+               (v.is_array() ? "an array of " + std::to_string(v.size()) : io::json_type_name(v)));
     Eigen::VectorXd out(n);
     for (int i = 0; i < n; ++i) {
-      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
-        fail(field, "expected finite numbers");
+      if (!v[i].is_number())
+        fail(field + "[" + std::to_string(i) + "]",
+             "expected a number, got " + io::json_type_name(v[i]));
+      if (!std::isfinite(v[i].get<double>()))
+        fail(field + "[" + std::to_string(i) + "]", "expected a finite number");
       out[i] = v[i].get<double>();
     }
     return out;

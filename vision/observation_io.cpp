@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "io/atomic_file.h"
+#include "io/json_text.h"
 #include "vision/landmarks.h"
 
 namespace orthoface::vision {
@@ -35,38 +36,50 @@ json view_json(const ViewObservation& v) {
           {"features", features_json(v.features)}};
 }
 
+// Field `name` of the object `j` found at `where` ("front.", "" at the top level).
 const json& field(const json& j, const char* name, const std::string& where) {
-  if (!j.is_object() || !j.contains(name))
-    throw std::invalid_argument("observation JSON: missing field '" + where + name + "'");
+  if (!j.is_object())
+    throw std::invalid_argument(io::json_type_error(
+        where.empty() ? "top level" : where.substr(0, where.size() - 1), "an object", j));
+  if (!j.contains(name)) throw std::invalid_argument(where + name + ": missing");
   return j.at(name);
 }
 
 double number(const json& j, const char* name, const std::string& where) {
   const json& v = field(j, name, where);
-  if (!v.is_number())
-    throw std::invalid_argument("observation JSON: '" + where + name + "' is not a number");
+  if (!v.is_number()) throw std::invalid_argument(io::json_type_error(where + name, "a number", v));
   const double d = v.get<double>();
-  if (!std::isfinite(d))
-    throw std::invalid_argument("observation JSON: '" + where + name + "' is not finite");
+  if (!std::isfinite(d)) throw std::invalid_argument(where + name + ": expected a finite number");
+  return d;
+}
+
+// Item `i` of the array `j` at `where` as a finite number.
+double item_number(const json& j, size_t i, const std::string& where) {
+  const json& v = j[i];
+  const std::string field = where + "[" + std::to_string(i) + "]";
+  if (!v.is_number()) throw std::invalid_argument(io::json_type_error(field, "a number", v));
+  const double d = v.get<double>();
+  if (!std::isfinite(d)) throw std::invalid_argument(field + ": expected a finite number");
   return d;
 }
 
 // A features object ({name: {x, y, confidence, method, mirrored}}) at `where`.
 std::map<std::string, Feature2d> features_from(const json& f, const std::string& where) {
-  if (!f.is_object())
-    throw std::invalid_argument("observation JSON: '" + where + "' is not an object");
+  if (!f.is_object()) throw std::invalid_argument(io::json_type_error(where, "an object", f));
   std::map<std::string, Feature2d> out;
   for (const auto& [name, x] : f.items()) {
     if (!is_landmark_name(name))
-      throw std::invalid_argument("observation JSON: unknown landmark '" + name + "'");
+      throw std::invalid_argument(where + "." + name + ": unknown landmark name");
     const std::string w = where + "." + name + ".";
     Feature2d g;
     g.px = {number(x, "x", w), number(x, "y", w)};
     g.confidence = number(x, "confidence", w);
     const json& m = field(x, "method", w);
     const json& mi = field(x, "mirrored", w);
-    if (!m.is_string() || !mi.is_boolean())
-      throw std::invalid_argument("observation JSON: '" + w + "method/mirrored' mistyped");
+    if (!m.is_string())
+      throw std::invalid_argument(io::json_type_error(w + "method", "a string", m));
+    if (!mi.is_boolean())
+      throw std::invalid_argument(io::json_type_error(w + "mirrored", "true or false", mi));
     g.method = m.get<std::string>();
     g.mirrored = mi.get<bool>();
     out[name] = g;
@@ -81,12 +94,13 @@ ViewObservation view_from(const json& j, const std::string& where) {
   v.boundary_confidence = number(j, "boundary_confidence", where);
   const json& b = field(j, "boundary", where);
   if (!b.is_array())
-    throw std::invalid_argument("observation JSON: '" + where + "boundary' is not an array");
-  for (const json& p : b) {
-    if (!p.is_array() || p.size() != 2 || !p[0].is_number() || !p[1].is_number())
-      throw std::invalid_argument("observation JSON: '" + where +
-                                  "boundary' holds a non-[x,y] item");
-    v.boundary.emplace_back(p[0].get<double>(), p[1].get<double>());
+    throw std::invalid_argument(io::json_type_error(where + "boundary", "an array", b));
+  for (size_t i = 0; i < b.size(); ++i) {
+    const json& p = b[i];
+    const std::string item = where + "boundary[" + std::to_string(i) + "]";
+    if (!p.is_array() || p.size() != 2)
+      throw std::invalid_argument(io::json_type_error(item, "a point [x, y]", p));
+    v.boundary.emplace_back(item_number(p, 0, item), item_number(p, 1, item));
   }
   v.features = features_from(field(j, "features", where), where + "features");
   return v;
@@ -118,15 +132,17 @@ FaceObservation observation_from_json(const json& j) {
   o.centre_confidence = number(c, "confidence", "centre_line.");
   const json& s = field(j, "side_faces_left", "");
   if (!s.is_boolean())
-    throw std::invalid_argument("observation JSON: 'side_faces_left' is not a boolean");
+    throw std::invalid_argument(io::json_type_error("side_faces_left", "true or false", s));
   o.side_faces_left = s.get<bool>();
   if (j.contains("front_trained"))  // optional: observations written before it existed
     o.front_trained = features_from(j.at("front_trained"), "front_trained");
   const json& w = field(j, "warnings", "");
-  if (!w.is_array()) throw std::invalid_argument("observation JSON: 'warnings' is not an array");
-  for (const json& x : w) {
-    if (!x.is_string()) throw std::invalid_argument("observation JSON: a warning is not a string");
-    o.warnings.push_back(x.get<std::string>());
+  if (!w.is_array()) throw std::invalid_argument(io::json_type_error("warnings", "an array", w));
+  for (size_t i = 0; i < w.size(); ++i) {
+    if (!w[i].is_string())
+      throw std::invalid_argument(
+          io::json_type_error("warnings[" + std::to_string(i) + "]", "a string", w[i]));
+    o.warnings.push_back(w[i].get<std::string>());
   }
   return o;
 }
@@ -141,7 +157,8 @@ FaceObservation read_observation(const std::string& path) {
   try {
     return observation_from_json(json::parse(f));
   } catch (const json::exception& e) {
-    throw std::runtime_error("observation file '" + path + "': not valid JSON (" + e.what() + ")");
+    throw std::runtime_error("observation file '" + path + "': not valid JSON (" +
+                             io::json_error_text(e) + ")");
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error("observation file '" + path + "': " + e.what());
   }

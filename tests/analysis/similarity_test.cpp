@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "sim/head.h"
 #include "tests/analysis/analysis_test_meshes.h"
@@ -52,6 +54,36 @@ TEST(Similarity, SameHeadAtTwoResolutionsBeatsDifferentHeads) {
 TEST(Similarity, SphereMetricsAreConstantSoScoresAreUndefined) {
   const FaceSignature s = face_signature(testing::icosphere(4, 100.0));
   EXPECT_TRUE(std::isnan(similarity(s, s).shape_index));
+}
+
+// signature_problem says why a score would be undefined; a head has none, and two heads that
+// pass score finite numbers in [0, 1].
+TEST(Similarity, SignatureProblemNamesWhatMakesAScoreUndefined) {
+  const FaceSignature sphere = face_signature(testing::icosphere(4, 100.0));
+  EXPECT_NE(signature_problem(sphere).find("the same at every network point"), std::string::npos)
+      << signature_problem(sphere);
+  EXPECT_EQ(signature_problem(FaceSignature{}), "no network points");
+  const FaceSignature a = face_signature(head_mesh(1, 4000)),
+                      b = face_signature(head_mesh(2, 4000));
+  EXPECT_EQ(signature_problem(a), "");
+  EXPECT_EQ(signature_problem(b), "");
+  for (const SimilarityScores& s : {similarity(a, b), similarity(a, a)})
+    for (double v : {s.mean, s.gaussian, s.shape_index, s.curvedness}) {
+      EXPECT_TRUE(std::isfinite(v));
+      EXPECT_GE(v, 0.0);
+      EXPECT_LE(v, 1.0);
+    }
+  EXPECT_DOUBLE_EQ(similarity(a, a).shape_index, 1.0);
+  FaceSignature nan = a;
+  nan.curvedness[3] = std::nan("");
+  EXPECT_NE(signature_problem(nan).find("curvedness is not finite"), std::string::npos);
+  FaceSignature short_metric = a;
+  short_metric.gaussian.pop_back();
+  EXPECT_NE(signature_problem(short_metric).find("Gaussian curvature has"), std::string::npos);
+  FaceSignature flat = a;  // a constant metric beside varying ones
+  std::fill(flat.mean.begin(), flat.mean.end(), 0.01);
+  EXPECT_NE(signature_problem(flat).find("mean curvature is the same"), std::string::npos);
+  EXPECT_TRUE(std::isnan(similarity(flat, a).mean));
 }
 
 TEST(Similarity, OpenMeshLimitsTheRadiusAndBadInputThrows) {

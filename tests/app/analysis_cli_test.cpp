@@ -1,11 +1,15 @@
 // `orthoface features | segment | similarity` (and orthoface-batch when built), run as processes.
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -13,6 +17,7 @@
 
 #include "mesh/mesh_io.h"
 #include "sim/head.h"
+#include "tests/analysis/analysis_test_meshes.h"
 #include "tests/common/run_command.h"
 #include "tests/common/test_data.h"
 
@@ -148,6 +153,80 @@ TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   EXPECT_EQ(slurp(w / "one" / "similarity_shape_index.csv"),
             slurp(w / "two" / "similarity_shape_index.csv"));
   expect_clean_error(run("'" + batch.string() + "'", "similarity nowhere -o x", w), "nowhere");
+}
+
+// orthoface-batch similarity never writes NaN (it once wrote a NaN row and column for every mesh
+// without a signature, and a NaN cell for a metric constant on a face): a flat grid (no
+// curvature anywhere) and a degenerate mesh are each one error line naming the file and a failed
+// item in batch_report.json, and the matrices hold the other meshes; two identical meshes score
+// 1. `orthoface similarity` refuses the flat grid the same way.
+TEST(AnalysisCli, BatchSimilarityNeverWritesNaN) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch_nan");
+  fs::create_directories(w / "meshes");
+  sim::HeadOptions o;
+  o.target_triangles = 2000;
+  for (int s = 0; s < 2; ++s)
+    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                     (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+  fs::copy_file(w / "meshes" / "h0.ply", w / "meshes" / "h0_copy.ply");
+  mesh::write_mesh(testing::plane_grid(40, 2.0), (w / "meshes" / "flat.ply").string());
+  std::ofstream(w / "meshes" / "degenerate.obj") << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+  const Result r = run("'" + batch.string() + "'", "similarity meshes -o out", w);
+  EXPECT_EQ(r.code, 1) << r.err;
+  std::vector<std::string> errors;
+  std::istringstream lines(r.err);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("error: ", 0) == 0) errors.push_back(line);
+  ASSERT_EQ(errors.size(), 2u) << r.err;
+  EXPECT_NE(errors[0].find("degenerate.obj"), std::string::npos) << errors[0];
+  EXPECT_NE(errors[1].find("flat.ply: its "), std::string::npos) << errors[1];
+  for (const char* metric : {"mean", "gaussian", "shape_index", "curvedness"}) {
+    const std::string csv = slurp(w / "out" / (std::string("similarity_") + metric + ".csv"));
+    SCOPED_TRACE(csv);
+    std::string lower = csv;
+    for (char& c : lower) c = char(std::tolower(static_cast<unsigned char>(c)));
+    EXPECT_EQ(lower.find("nan"), std::string::npos);
+    EXPECT_EQ(lower.find("inf"), std::string::npos);
+    EXPECT_EQ(csv.find("flat"), std::string::npos);
+    std::istringstream rows(csv);
+    std::string header;
+    std::getline(rows, header);
+    EXPECT_EQ(header, "mesh,h0.ply,h0_copy.ply,h1.ply");
+    std::map<std::string, std::vector<double>> cells;
+    for (std::string row; std::getline(rows, row);) {
+      std::istringstream cols(row);
+      std::string name, v;
+      std::getline(cols, name, ',');
+      while (std::getline(cols, v, ',')) cells[name].push_back(std::stod(v));
+    }
+    ASSERT_EQ(cells.size(), 3u);
+    EXPECT_DOUBLE_EQ(cells["h0.ply"][1], 1.0);  // identical meshes
+    for (const auto& [name, row] : cells)
+      for (double v : row) EXPECT_TRUE(v >= 0 && v <= 1) << name << " " << v;
+  }
+  const auto report = nlohmann::json::parse(slurp(w / "out" / "batch_report.json"));
+  EXPECT_EQ(report["ok"], 3);
+  EXPECT_EQ(report["failed"], 2);
+  for (const auto& item : report["items"])
+    EXPECT_EQ(item["ok"].get<bool>(), !item.contains("error")) << item.dump();
+
+  // Fewer than two usable meshes: no matrix at all, the report says why.
+  fs::create_directories(w / "few");
+  fs::copy_file(w / "meshes" / "h1.ply", w / "few" / "h1.ply");
+  fs::copy_file(w / "meshes" / "flat.ply", w / "few" / "flat.ply");
+  const Result few = run("'" + batch.string() + "'", "similarity few -o few_out", w);
+  EXPECT_EQ(few.code, 1) << few.err;
+  EXPECT_NE(few.err.find("error: " + (fs::path("few") / "flat.ply").string()), std::string::npos)
+      << few.err;
+  EXPECT_FALSE(fs::exists(w / "few_out" / "similarity_mean.csv"));
+  EXPECT_TRUE(fs::exists(w / "few_out" / "batch_report.json"));
+
+  const Result one = orthoface("similarity meshes/h1.ply meshes/flat.ply -o single", w);
+  expect_clean_error(one, "flat.ply");
+  EXPECT_EQ(std::count(one.err.begin(), one.err.end(), '\n'), 1) << one.err;
+  EXPECT_FALSE(fs::exists(w / "single"));
 }
 
 // orthoface-batch pairs takes the photo types `reconstruct` takes, tries every item, says why

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 
 namespace orthoface::testing {
@@ -22,6 +23,25 @@ inline std::filesystem::path temp_dir(const std::string& name) {
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p;
+}
+
+// Moves the fixture made in `work` to `ready`, where test processes running at once share it.
+// A copy in place is never deleted under a process reading it: a fresh one (`fresh()`: another
+// process won the race) is kept and `work` dropped; a stale one (made by an older binary) is
+// moved aside whole first. Returns `ready`.
+inline std::filesystem::path publish_fixture(const std::filesystem::path& work,
+                                             const std::filesystem::path& ready,
+                                             const std::function<bool()>& fresh) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fresh() && fs::exists(ready)) {
+    const fs::path stale = work.string() + ".stale";
+    fs::rename(ready, stale, ec);
+    fs::remove_all(stale, ec);
+  }
+  fs::rename(work, ready, ec);
+  if (ec) fs::remove_all(work, ec);
+  return ready;
 }
 
 }  // namespace orthoface::testing

@@ -1,9 +1,14 @@
 #include "io/atomic_file.h"
 
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <set>
 #include <stdexcept>
@@ -129,6 +134,131 @@ TEST(AtomicFile, BadImagesAndMissingFoldersThrow) {
   EXPECT_THROW(write_image_atomically((dir / "no" / "e.png").string(), image), std::runtime_error);
   EXPECT_THROW(write_text_atomically((dir / "no" / "t.txt").string(), "x"), std::runtime_error);
   expect_only(dir, {});
+  fs::remove_all(dir);
+}
+
+// A full disk as a file size limit (RLIMIT_FSIZE, SIGXFSZ ignored: write() fails with EFBIG) in
+// a child process: `f` runs there, and its return value is the child's exit status.
+int with_file_size_limit(long bytes, const std::function<int()>& f) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const rlimit limit{rlim_t(bytes), rlim_t(bytes)};
+    ::signal(SIGXFSZ, SIG_IGN);
+    if (::setrlimit(RLIMIT_FSIZE, &limit) != 0) ::_exit(100);
+    ::_exit(f());
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// 0 when `f` throws std::runtime_error naming `path`, 1 when it does not throw, 2 when the
+// message does not name it.
+int throws_naming(const std::string& path, const std::function<void()>& f) {
+  const std::string e = error_of(f);
+  return e.empty() ? 1 : e.find(path) == std::string::npos ? 2 : 0;
+}
+
+// A write that fails only in the last flush (the content fits the stream's buffer, not the
+// disk) and an image whose encoded bytes do not fit are failures: the old file stays as it was
+// and no temporary is left.
+TEST(AtomicFile, AFullDiskIsAFailureEvenAtTheLastFlush) {
+  const fs::path dir = testing::temp_dir("atomic_full");
+  const std::string text = (dir / "a.txt").string(), png = (dir / "i.png").string();
+  write_text_atomically(text, "old");
+  cv::Mat noise(64, 64, CV_8UC3);
+  cv::randu(noise, cv::Scalar::all(0), cv::Scalar::all(255));  // ~12 kB of PNG
+  EXPECT_EQ(with_file_size_limit(4096,
+                                 [&] {
+                                   return throws_naming(text, [&] {
+                                     write_text_atomically(text, std::string(5000, 'x'));
+                                   });
+                                 }),
+            0);
+  EXPECT_EQ(
+      with_file_size_limit(
+          4096, [&] { return throws_naming(png, [&] { write_image_atomically(png, noise); }); }),
+      0);
+  EXPECT_EQ(slurp(text), "old");
+  expect_only(dir, {"a.txt"});
+  // With room, the same image is written whole.
+  EXPECT_EQ(
+      with_file_size_limit(
+          1 << 20, [&] { return throws_naming(png, [&] { write_image_atomically(png, noise); }); }),
+      1);
+  EXPECT_EQ(cv::norm(cv::imread(png), noise, cv::NORM_INF), 0);
+  fs::remove_all(dir);
+}
+
+TEST(FileGroup, FilesAppearTogetherAtCommit) {
+  const fs::path dir = testing::temp_dir("group_commit");
+  {
+    FileGroup group;
+    group.create_folders((dir / "out" / "sub").string());
+    write_text_atomically((dir / "out" / "sub" / "a.txt").string(), "a");
+    write_text_atomically((dir / "out" / "b.txt").string(), "b");
+    EXPECT_FALSE(fs::exists(dir / "out" / "b.txt"));  // not before the commit
+    EXPECT_EQ(group.pending().size(), 2u);
+    group.commit();
+    EXPECT_TRUE(group.pending().empty());
+    write_text_atomically((dir / "out" / "c.txt").string(), "c");  // after it: on its own
+    EXPECT_TRUE(fs::exists(dir / "out" / "c.txt"));
+  }
+  EXPECT_EQ(slurp(dir / "out" / "sub" / "a.txt"), "a");
+  EXPECT_EQ(slurp(dir / "out" / "b.txt"), "b");
+  expect_only(dir / "out", {"sub", "b.txt", "c.txt"});
+  fs::remove_all(dir);
+}
+
+// A group that is not committed (an exception on the way) leaves nothing: no temporary, no
+// target, no folder it created; an existing file keeps its content; a folder that existed stays.
+TEST(FileGroup, AFailureLeavesNothingBehind) {
+  const fs::path dir = testing::temp_dir("group_fail");
+  write_text_atomically((dir / "keep.txt").string(), "old");
+  try {
+    FileGroup group;
+    group.create_folders((dir / "new" / "deeper").string());
+    write_text_atomically((dir / "keep.txt").string(), "new");
+    write_text_atomically((dir / "new" / "deeper" / "x.txt").string(), "x");
+    {
+      FileGroup inner;  // joins: its commit is the outer one's
+      write_text_atomically((dir / "inner.txt").string(), "i");
+      inner.commit();
+      EXPECT_FALSE(fs::exists(dir / "inner.txt"));
+      EXPECT_EQ(inner.pending().size(), 3u);
+    }
+    write_stream_atomically((dir / "bad.txt").string(), [](std::ostream& out) {
+      out << "half";
+      out.setstate(std::ios::badbit);  // as a full disk would
+    });
+    group.commit();
+    ADD_FAILURE() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.txt"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(slurp(dir / "keep.txt"), "old");
+  expect_only(dir, {"keep.txt"});
+  fs::remove_all(dir);
+}
+
+TEST(FileGroup, BadFoldersAndRenamesThrowNamingThePath) {
+  const fs::path dir = testing::temp_dir("group_bad");
+  write_text_atomically((dir / "file").string(), "f");
+  FileGroup group;
+  EXPECT_THROW(group.create_folders(""), std::runtime_error);
+  std::string e = error_of([&] { group.create_folders((dir / "file").string()); });
+  EXPECT_NE(e.find("file"), std::string::npos) << e;
+  e = error_of([&] { group.create_folders((dir / "file" / "below").string()); });
+  EXPECT_NE(e.find("below"), std::string::npos) << e;
+  // A folder that appears at a target between the write and the commit: the rename fails, the
+  // error names it and the temporaries go.
+  write_text_atomically((dir / "a.txt").string(), "a");
+  write_text_atomically((dir / "b.txt").string(), "b");
+  fs::create_directories(dir / "a.txt" / "x");
+  e = error_of([&] { group.commit(); });
+  EXPECT_NE(e.find("a.txt"), std::string::npos) << e;
+  expect_only(dir, {"file", "a.txt"});
+  EXPECT_TRUE(fs::is_directory(dir / "a.txt"));
   fs::remove_all(dir);
 }
 
