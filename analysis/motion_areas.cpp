@@ -122,12 +122,11 @@ FeaturePoint parse_point(const std::string& path, const std::string& name, const
   if (!pos.is_array() || pos.size() != 3)
     throw std::runtime_error(path + ": " + io::json_type_error(field, "a position [x, y, z]", pos));
   Eigen::Vector3d p;
-  for (int k = 0; k < 3; ++k) {
-    const std::string item = field + "[" + std::to_string(k) + "]";
-    if (!pos[k].is_number())
-      throw std::runtime_error(path + ": " + io::json_type_error(item, "a number", pos[k]));
-    p[k] = pos[k].get<double>();
-    if (!std::isfinite(p[k])) throw std::runtime_error(path + ": " + item + ": not finite");
+  try {
+    for (int k = 0; k < 3; ++k)
+      p[k] = io::json_number(pos[k], field + "[" + std::to_string(k) + "]");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(path + ": " + e.what());
   }
   return {name, p};
 }

@@ -176,11 +176,14 @@ int run_render(int argc, char** argv) {
   }
   const reconstruct::Reconstruction f = reconstruct::read_reconstruction(
       a.positional[0], {.landmarks = o.unseen != render::UnseenSide::Front});
-  io::FileGroup outputs;  // the export and every view, or none of them (a full disk half-way)
+  io::FileGroup outputs;     // the export and every view, or none of them (a full disk half-way)
+  const auto commit = [&] {  // and say what was exported, once it is there
+    outputs.commit();
+    if (a.has("export")) std::printf("wrote %s\n", a.get("export").c_str());
+  };
   if (a.has("export")) export_mesh(f, a.get("export"), o.equalize);
   if (!view_wanted) {
-    outputs.commit();
-    std::printf("wrote %s\n", a.get("export").c_str());
+    commit();
     return 0;
   }
   const std::string head = a.get("head", "whole");
@@ -198,8 +201,7 @@ int run_render(int argc, char** argv) {
   const render::SynthesisOptions& used = views.options().synthesis;
   if (!turntable) {
     write_image(views.image(yaw, pitch), out);
-    outputs.commit();
-    if (a.has("export")) std::printf("wrote %s\n", a.get("export").c_str());
+    commit();
     std::printf("wrote %s (%dx%d, yaw %.1f, pitch %.1f, %s, unseen side: %s)\n",
                 out.string().c_str(), w, h, yaw, pitch, render::blend_name(used.blend),
                 render::unseen_side_name(used.unseen));
@@ -225,8 +227,7 @@ int run_render(int argc, char** argv) {
   so.columns = std::min(turntable, 6);
   so.title = "orthoface render " + a.positional[0] + " (" + render::blend_name(o.blend) + ")";
   write_image(render::contact_sheet(tiles, so), out);
-  outputs.commit();
-  if (a.has("export")) std::printf("wrote %s\n", a.get("export").c_str());
+  commit();
   std::printf("wrote %d views and the sheet %s\n", turntable, out.string().c_str());
   return 0;
 }

@@ -6,13 +6,12 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "io/atomic_file.h"
@@ -26,11 +25,10 @@ std::string save_pair(const capture::FramePair& pair, const std::string& dir) {
   const std::string tmp = io::temp_path_for(dir);
   try {
     fs::create_directories(tmp);
+    // Through io: a full disk, even at the last flush, is an error, not a truncated pair.
     for (const auto& [name, frame] :
          {std::pair{"front.png", &pair.front}, {"side.png", &pair.side}})
-      if (!cv::imwrite(tmp + "/" + name, frame->image))
-        throw std::runtime_error("cannot write " + tmp + "/" + name);
-    std::ofstream json(tmp + "/pair.json");
+      io::write_image_atomically(tmp + "/" + name, frame->image);
     char text[512];
     std::snprintf(
         text, sizeof(text),
@@ -39,9 +37,7 @@ std::string save_pair(const capture::FramePair& pair, const std::string& dir) {
         pair.front.timestamp_s, static_cast<unsigned long long>(pair.front.sequence),
         pair.side.timestamp_s, static_cast<unsigned long long>(pair.side.sequence),
         pair.skew_s * 1e3);
-    json << text;
-    json.close();
-    if (!json) throw std::runtime_error("cannot write " + tmp + "/pair.json");
+    io::write_text_atomically(tmp + "/pair.json", text);
     fs::rename(tmp, dir);
   } catch (...) {
     std::error_code ec;

@@ -1,5 +1,7 @@
 #include "capture/file_camera.h"
 
+#include "capture/v4l2_camera.h"
+
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -12,15 +14,12 @@
 namespace orthoface::capture {
 namespace {
 
+// The file's fourcc, or "BGR3" when it has none (image sequences, raw streams).
 std::string fourcc_text(double code) {
-  const auto c = static_cast<unsigned>(code);
-  std::string s;
-  for (int i = 0; i < 4; ++i) {
-    const char ch = static_cast<char>((c >> (8 * i)) & 0xFF);
-    if (ch < 0x20 || ch > 0x7E) return "BGR3";  // no fourcc (image sequences, raw streams)
-    s += ch;
-  }
-  return s;
+  const std::string name = fourcc_name(static_cast<unsigned>(code));
+  for (const char c : name)
+    if (c < 0x20 || c > 0x7E) return "BGR3";
+  return name;
 }
 
 void sleep_s(double s) {

@@ -156,11 +156,4 @@ void FileGroup::commit() {
   files_.clear();
 }
 
-std::vector<std::string> FileGroup::pending() const {
-  if (outer_) return outer_->pending();
-  std::vector<std::string> out;
-  for (const auto& f : files_) out.push_back(f.second);
-  return out;
-}
-
 }  // namespace orthoface::io

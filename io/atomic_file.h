@@ -64,9 +64,6 @@ class FileGroup {
   // yet are then removed (those already renamed stay: they are complete).
   void commit();
 
-  // The targets written so far and not yet committed, in order.
-  std::vector<std::string> pending() const;
-
  private:
   friend void write_atomically(const std::string&, const std::function<void(const std::string&)>&);
   FileGroup* outer_ = nullptr;                              // the group this one joined

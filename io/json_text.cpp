@@ -1,5 +1,8 @@
 #include "io/json_text.h"
 
+#include <cmath>
+#include <stdexcept>
+
 #include <nlohmann/json.hpp>
 
 namespace orthoface::io {
@@ -16,6 +19,13 @@ std::string json_type_name(const nlohmann::json& value) {
 std::string json_type_error(const std::string& field, const std::string& expected,
                             const nlohmann::json& got) {
   return field + ": expected " + expected + ", got " + json_type_name(got);
+}
+
+double json_number(const nlohmann::json& value, const std::string& field) {
+  if (!value.is_number()) throw std::invalid_argument(json_type_error(field, "a number", value));
+  const double d = value.get<double>();
+  if (!std::isfinite(d)) throw std::invalid_argument(field + ": expected a finite number");
+  return d;
 }
 
 std::string json_error_text(const std::exception& e) {

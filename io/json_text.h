@@ -16,6 +16,10 @@ std::string json_type_name(const nlohmann::json& value);
 std::string json_type_error(const std::string& field, const std::string& expected,
                             const nlohmann::json& got);
 
+// `value` as a finite number. Throws std::invalid_argument "FIELD: expected a number, got a
+// string" or "FIELD: expected a finite number" (the caller names the file).
+double json_number(const nlohmann::json& value, const std::string& field);
+
 // The text of a JSON library exception without its "[json.exception.parse_error.101] " tag.
 std::string json_error_text(const std::exception& e);
 

@@ -124,8 +124,6 @@ void write_reconstruction(const Reconstruction& r, const std::string& dir) {
     }
     if (!r.front_plate.empty()) write_png(r.front_plate, tmp / "background_front.png");
     capture::write_rig(r.rig, (tmp / "rig.yaml").string());
-    // cv::FileStorage does not report a failed last flush (a full disk): read back.
-    capture::read_rig((tmp / "rig.yaml").string());
     vision::write_observation(r.observation, (tmp / "observation.json").string());
     write_json(landmarks_json(r), tmp / "landmarks.json");
     write_json(report_object(r), tmp / "report.json");
@@ -256,11 +254,11 @@ std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
     const nlohmann::json& p = v["xyz_mm"];
     if (!p.is_array() || p.size() != 3)
       fail(io::json_type_error(field + ".xyz_mm", "an array of 3 numbers", p));
-    for (int k = 0; k < 3; ++k) {
-      const std::string item = field + ".xyz_mm[" + std::to_string(k) + "]";
-      if (!p[k].is_number()) fail(io::json_type_error(item, "a number", p[k]));
-      out[name][k] = p[k].get<double>();
-      if (!std::isfinite(out[name][k])) fail(item + ": expected a finite number");
+    try {
+      for (int k = 0; k < 3; ++k)
+        out[name][k] = io::json_number(p[k], field + ".xyz_mm[" + std::to_string(k) + "]");
+    } catch (const std::invalid_argument& e) {
+      fail(e.what());
     }
   }
   return out;

@@ -26,11 +26,16 @@ struct Reader {
     if (!j.is_object() || !j.contains(key)) fail(field, "missing");
     return j.at(key);
   }
+  // io::json_number with the file named.
+  double number(const json& v, const std::string& field) const {
+    try {
+      return io::json_number(v, field);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error("truth file " + path + ": " + e.what());
+    }
+  }
   double num(const json& j, const std::string& key, const std::string& field) const {
-    const json& v = at(j, key, field);
-    if (!v.is_number()) fail(field, "expected a number, got " + io::json_type_name(v));
-    if (!std::isfinite(v.get<double>())) fail(field, "expected a finite number");
-    return v.get<double>();
+    return number(at(j, key, field), field);
   }
   bool flag(const json& j, const std::string& key, const std::string& field) const {
     const json& v = at(j, key, field);
@@ -50,14 +55,7 @@ struct Reader {
            "expected an array of " + std::to_string(n) + " numbers, got " +
                (v.is_array() ? "an array of " + std::to_string(v.size()) : io::json_type_name(v)));
     Eigen::VectorXd out(n);
-    for (int i = 0; i < n; ++i) {
-      if (!v[i].is_number())
-        fail(field + "[" + std::to_string(i) + "]",
-             "expected a number, got " + io::json_type_name(v[i]));
-      if (!std::isfinite(v[i].get<double>()))
-        fail(field + "[" + std::to_string(i) + "]", "expected a finite number");
-      out[i] = v[i].get<double>();
-    }
+    for (int i = 0; i < n; ++i) out[i] = number(v[i], field + "[" + std::to_string(i) + "]");
     return out;
   }
   Eigen::MatrixXd mat(const json& j, const std::string& key, const std::string& field, int rows,

@@ -46,21 +46,7 @@ const json& field(const json& j, const char* name, const std::string& where) {
 }
 
 double number(const json& j, const char* name, const std::string& where) {
-  const json& v = field(j, name, where);
-  if (!v.is_number()) throw std::invalid_argument(io::json_type_error(where + name, "a number", v));
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw std::invalid_argument(where + name + ": expected a finite number");
-  return d;
-}
-
-// Item `i` of the array `j` at `where` as a finite number.
-double item_number(const json& j, size_t i, const std::string& where) {
-  const json& v = j[i];
-  const std::string field = where + "[" + std::to_string(i) + "]";
-  if (!v.is_number()) throw std::invalid_argument(io::json_type_error(field, "a number", v));
-  const double d = v.get<double>();
-  if (!std::isfinite(d)) throw std::invalid_argument(field + ": expected a finite number");
-  return d;
+  return io::json_number(field(j, name, where), where + name);
 }
 
 // A features object ({name: {x, y, confidence, method, mirrored}}) at `where`.
@@ -100,7 +86,8 @@ ViewObservation view_from(const json& j, const std::string& where) {
     const std::string item = where + "boundary[" + std::to_string(i) + "]";
     if (!p.is_array() || p.size() != 2)
       throw std::invalid_argument(io::json_type_error(item, "a point [x, y]", p));
-    v.boundary.emplace_back(item_number(p, 0, item), item_number(p, 1, item));
+    v.boundary.emplace_back(io::json_number(p[0], item + "[0]"),
+                            io::json_number(p[1], item + "[1]"));
   }
   v.features = features_from(field(j, "features", where), where + "features");
   return v;

@@ -54,34 +54,22 @@ void write_bad_pts(const fs::path& dir) {
 // under a name shared by the test processes (ctest runs each case in its own process) and moved
 // into place whole, so a half-made fixture is never seen.
 fs::path fixture() {
-  const fs::path ready = fs::temp_directory_path() / "orthoface_test_bad_inputs_fixture";
-  const auto binary_time = fs::last_write_time(ORTHOFACE_BINARY);
-  if (fs::exists(ready / "rec" / "head.obj") && fs::exists(ready / "meshes" / "truth.mtl") &&
-      fs::last_write_time(ready) > binary_time)
-    return ready;
-  const fs::path work = testing::temp_dir("bad_inputs_fixture");
-  const testing::CommandResult sim = testing::run_orthoface("simulate --subject 0 --out sim", work);
-  const testing::CommandResult rec = testing::run_orthoface(
-      "reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml --out rec", work);
-  if (sim.code != 0 || rec.code != 0) {
-    ADD_FAILURE() << "fixture: " << sim.err << rec.err;
-    return {};
-  }
-  std::ofstream(work / "points.json")
-      << R"({"9.3": [0, -20, 110], "10.1": [80, 0, 0], "10.2": [-80, 0, 0]})";
-  // orthoface-batch inputs: one pair item with its rig, a folder with one good mesh.
-  fs::create_directories(work / "pairs" / "item");
-  for (const char* f : {"front.png", "side.png", "rig.yaml"})
-    fs::copy_file(work / "sim" / f, work / "pairs" / "item" / f);
-  fs::create_directories(work / "meshes");
-  for (const char* f : {"truth.obj", "truth.mtl", "truth.png"})  // the OBJ with its material
-    fs::copy_file(work / "sim" / f, work / "meshes" / f);
-  write_bad_pts(work / "made");
-  const auto fresh = [&] {
-    return fs::exists(ready / "rec" / "head.obj") && fs::exists(ready / "meshes" / "truth.mtl") &&
-           fs::last_write_time(ready) > binary_time;
-  };
-  return testing::publish_fixture(work, ready, fresh);
+  std::string why;
+  const fs::path ready = testing::command_fixture(
+      "bad_inputs_fixture", {"meshes/truth.mtl", "made"},
+      [](const fs::path& work) {
+        // orthoface-batch inputs: one pair item with its rig, a folder with one good mesh.
+        fs::create_directories(work / "pairs" / "item");
+        for (const char* f : {"front.png", "side.png", "rig.yaml"})
+          fs::copy_file(work / "sim" / f, work / "pairs" / "item" / f);
+        fs::create_directories(work / "meshes");
+        for (const char* f : {"truth.obj", "truth.mtl", "truth.png"})  // the OBJ with its material
+          fs::copy_file(work / "sim" / f, work / "meshes" / f);
+        write_bad_pts(work / "made");
+      },
+      why);
+  if (ready.empty()) ADD_FAILURE() << "fixture: " << why;
+  return ready;
 }
 
 // One command run on one corpus file. `args` holds BAD (the corpus file), GOOD (the fixture),

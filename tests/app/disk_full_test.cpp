@@ -123,29 +123,20 @@ std::string joined(const std::vector<std::string>& v) {
 // folder, a feature-point file and a folder of three meshes. Made once per binary build under
 // a name shared by the test processes and moved into place whole.
 fs::path fixture() {
-  const fs::path ready = fs::temp_directory_path() / "orthoface_test_disk_full_fixture";
-  const auto binary_time = fs::last_write_time(ORTHOFACE_BINARY);
-  const auto fresh = [&] {
-    return fs::exists(ready / "rec" / "head.obj") && fs::last_write_time(ready) > binary_time;
-  };
-  if (fresh()) return ready;
-  const fs::path work = testing::temp_dir("disk_full_fixture");
-  const testing::CommandResult sim = testing::run_orthoface("simulate --subject 0 --out sim", work);
-  const testing::CommandResult rec = testing::run_orthoface(
-      "reconstruct --front sim/front.png --side sim/side.png --rig sim/rig.yaml --out rec", work);
-  if (sim.code != 0 || rec.code != 0) {
-    ADD_FAILURE() << "fixture: " << sim.err << rec.err;
-    return {};
-  }
-  std::ofstream(work / "points.json")
-      << R"({"9.3": [0, -20, 110], "10.1": [80, 0, 0], "10.2": [-80, 0, 0]})";
-  fs::create_directories(work / "meshes");
-  sim::HeadOptions o;
-  o.target_triangles = 2000;
-  for (int s = 0; s < 3; ++s)
-    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
-                     (work / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
-  return testing::publish_fixture(work, ready, fresh);
+  std::string why;
+  const fs::path ready = testing::command_fixture(
+      "disk_full_fixture", {"meshes/h2.ply"},
+      [](const fs::path& work) {
+        fs::create_directories(work / "meshes");
+        sim::HeadOptions o;
+        o.target_triangles = 2000;
+        for (int s = 0; s < 3; ++s)
+          mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                           (work / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+      },
+      why);
+  if (ready.empty()) ADD_FAILURE() << "fixture: " << why;
+  return ready;
 }
 
 // One command: its arguments with IN (the fixture) and OUT (the output folder, which exists and
