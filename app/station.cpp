@@ -1,5 +1,6 @@
-// orthoface station: two live cameras, synchronized pairs on request, a fitted face model and
-// its rotated view re-textured from the live frames every frame (the conferencing use).
+// orthoface station: two live cameras, synchronized pairs on request, a fitted face model
+// tracked in the live front frames, and its turned view re-textured from the live frames where
+// the head is, every frame (the conferencing use).
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -26,6 +27,7 @@
 #include "app/station_output.h"
 #include "capture/pair_capture.h"
 #include "io/atomic_file.h"
+#include "reconstruct/live_view.h"
 #include "reconstruct/reconstruction.h"
 #include "render/new_view.h"
 #include "sim/sim_camera.h"
@@ -39,8 +41,9 @@ void on_signal(int) { g_stop = 1; }
 Command station_command() {
   return {
       "station",
-      "Live two-camera station: shows both cameras and the face turned to --yaw, re-textured "
-      "from the live frames every frame; takes a synchronized pair on a key press ('c') or "
+      "Live two-camera station: shows both cameras and the head, tracked in every live front "
+      "frame, turned by --yaw / --pitch and re-textured from the live frames where it is, drawn "
+      "into the live frame; takes a synchronized pair on a key press ('c') or "
       "POST /capture, refits the model on 'r', POST /refit or every --refit-every frames. "
       "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
       "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
@@ -62,6 +65,8 @@ Command station_command() {
         "N  re-texture from the live frames every N output frames (default 1)"},
        {"refit-every", true, "N  refit the model every N output frames (default 0 = on request)"},
        {"out", true, "DIR  pairs and the run summary (default station_out)"},
+       {"no-tracking", false,
+        "draw the head where it was fitted instead of tracking it in the live frames"},
        front_background_flag(),
        side_background_flag()},
       0};
@@ -71,6 +76,7 @@ struct Settings {
   std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
   int width = 640, height = 480, refit_every = 0, retexture_every = 1;
+  bool tracking = true;
   vision::ObserveOptions observe;              // the clean plates for the refits
   std::optional<capture::RigCalibration> rig;  // --rig, or the simulated rig for sim: cameras
 };
@@ -93,6 +99,7 @@ Settings settings_from(const Args& a) {
   if (a.has("retexture-every"))
     s.retexture_every = to_int("retexture-every", a.get("retexture-every"), 1, 1000000);
   if (a.has("refit-every")) s.refit_every = to_int("refit-every", a.get("refit-every"), 0, 1000000);
+  s.tracking = !a.has("no-tracking");
   s.output = a.get("output", s.output);
   s.bind = a.get("bind", s.bind);
   s.out = a.get("out", s.out);
@@ -128,23 +135,23 @@ class Station {
   void render_view(const capture::Frame& front, const capture::Frame& side);
   void report_status(bool final_line);
   void write_summary();
+  // " | head tracked (yaw Y pitch P)", " | HEAD LOST: why" or " | tracking off".
+  std::string tracking_state() const;
 
   Settings s_;
   std::unique_ptr<capture::PairCapture> pc_;
   std::optional<capture::RigCalibration> rig_;
   std::unique_ptr<StationHttp> http_;
   std::unique_ptr<V4l2Output> v4l2_;
-  std::unique_ptr<render::ViewSynthesizer> synth_;
-  capture::RigCalibration synth_rig_;
-  reconstruct::ViewModel model_;  // the whole head and its pivot
-  reconstruct::ViewScene scene_;  // the fit's front frame without the head
+  std::unique_ptr<reconstruct::LiveView> live_;  // the fitted head, tracked and drawn
   std::future<reconstruct::Reconstruction> fit_;
   cv::Mat view_;
   std::vector<double> latency_s_, out_times_;
   std::vector<std::string> pairs_saved_, events_;
   double t0_ = 0, texture_time_ = 0;
-  std::vector<double> retexture_ms_, draw_ms_;
-  int frames_out_ = 0, fits_ = 0;
+  std::vector<double> retexture_ms_, draw_ms_, track_ms_;
+  int frames_out_ = 0, fits_ = 0, frames_tracked_ = 0, frames_lost_ = 0;
+  reconstruct::TrackResult track_;  // the last frame's
 };
 
 Station::Station(const Settings& s) : s_(s) {
@@ -179,16 +186,13 @@ void Station::finish_fit() {
   if (!fit_.valid() || fit_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
   try {
     reconstruct::Reconstruction r = fit_.get();
-    model_ = reconstruct::view_model(r, reconstruct::HeadExtent::Whole);
-    if (!synth_) {
-      // Texture from where the photos were taken; no side mask: the live frames move.
-      synth_ = std::make_unique<render::ViewSynthesizer>(model_.mesh, r.photo_rig, r.front, r.side);
-      synth_rig_ = r.rig;
+    if (!live_) {
+      reconstruct::LiveViewOptions o;
+      o.tracking = s_.tracking;
+      live_ = std::make_unique<reconstruct::LiveView>(r, o);
     } else {
-      synth_->set_mesh(model_.mesh);
+      live_->refit(r);
     }
-    synth_->set_face_vertices(model_.face_vertices);
-    scene_ = reconstruct::view_scene(r, *synth_);
     ++fits_;
     events_.push_back("model fitted (" + std::to_string(r.mesh.vertices.size()) + " vertices)");
   } catch (const std::exception& e) {
@@ -215,25 +219,25 @@ void Station::handle(const std::string& action) {
 void Station::render_view(const capture::Frame& front, const capture::Frame& side) {
   // The page's sliders set the view whether or not the fit has finished yet.
   if (http_) std::tie(s_.yaw_deg, s_.pitch_deg) = http_->view();
-  if (synth_) {
-    const double t = capture::monotonic_now_s();
-    if (frames_out_ % s_.retexture_every == 0 || texture_time_ == 0) {
-      synth_->set_photos(front.image, side.image);
+  if (live_) {
+    const bool retexture = frames_out_ % s_.retexture_every == 0 || texture_time_ == 0;
+    const reconstruct::LiveFrame lf = live_->update(front.image, side.image, front.timestamp_s,
+                                                    s_.yaw_deg, s_.pitch_deg, retexture);
+    if (retexture) {
       texture_time_ = std::min(front.timestamp_s, side.timestamp_s);
-      retexture_ms_.push_back((capture::monotonic_now_s() - t) * 1e3);
+      retexture_ms_.push_back(lf.texture_ms);
     }
-    const double t1 = capture::monotonic_now_s();
-    render::SynthesisOptions image_only;
-    image_only.depth = false;  // the output shows the image; depth readback would cost a frame
-    // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too
-    // much for a live frame on two cores; the offline render and batch use them.
-    image_only.float_textures = false;
-    // The whole head turned about the neck, drawn into the live front frame (the head's place
-    // filled from the fit's scene).
-    view_ = scene_.composite(
-        synth_->render(model_.camera(synth_rig_.front, s_.yaw_deg, s_.pitch_deg), image_only).view,
-        front.image);
-    draw_ms_.push_back((capture::monotonic_now_s() - t1) * 1e3);
+    draw_ms_.push_back(lf.draw_ms);
+    if (s_.tracking) {
+      track_ms_.push_back(lf.track_ms);
+      if (lf.track.tracked != (track_.tracked || frames_tracked_ + frames_lost_ == 0) &&
+          !(lf.track.tracked && frames_tracked_ + frames_lost_ == 0))
+        events_.push_back(lf.track.tracked ? "head tracking recovered"
+                                           : "head tracking lost: " + lf.track.reason);
+      ++(lf.track.tracked ? frames_tracked_ : frames_lost_);
+    }
+    track_ = lf.track;
+    view_ = lf.image;
   } else {
     view_ = cv::Mat(front.image.size(), CV_8UC3, cv::Scalar(40, 40, 40));
     cv::putText(view_, "fitting the model...", {20, view_.rows / 2}, cv::FONT_HERSHEY_SIMPLEX, 1.0,
@@ -242,7 +246,7 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
   const double now = capture::monotonic_now_s();
   // Capture-to-output: from the older frame whose pixels the view shows (the texture source).
   latency_s_.push_back(now -
-                       (synth_ ? texture_time_ : std::min(front.timestamp_s, side.timestamp_s)));
+                       (live_ ? texture_time_ : std::min(front.timestamp_s, side.timestamp_s)));
   out_times_.push_back(now);
   ++frames_out_;
   if (v4l2_) v4l2_->write(view_);
@@ -279,19 +283,31 @@ void Station::report_status(bool final_line) {
       static_cast<unsigned long long>(st.dropped_front),
       static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size(),
       st.front_connected ? "front ok" : "FRONT LOST", st.side_connected ? "side ok" : "SIDE LOST",
-      synth_ ? "" : " | no model yet");
+      !live_ ? " | no model yet" : tracking_state().c_str());
   std::fprintf(stderr, "\r%-118s%s", line, final_line ? "\n" : "");
   if (http_) {
-    char json[400];
-    std::snprintf(
-        json, sizeof(json),
-        "{\"fps_out\": %.2f, \"fps_front\": %.2f, \"fps_side\": %.2f, \"skew_ms\": %.2f, "
-        "\"latency_ms\": %.1f, \"dropped_front\": %llu, \"dropped_side\": %llu, \"pairs\": %zu}",
-        fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
-        static_cast<unsigned long long>(st.dropped_front),
-        static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size());
-    http_->set_status(json);
+    const nlohmann::json j = {{"fps_out", fps},
+                              {"fps_front", st.fps_front},
+                              {"fps_side", st.fps_side},
+                              {"skew_ms", st.skew_last_s * 1e3},
+                              {"latency_ms", lat * 1e3},
+                              {"dropped_front", st.dropped_front},
+                              {"dropped_side", st.dropped_side},
+                              {"pairs", pairs_saved_.size()},
+                              {"tracking", live_ ? tracking_state().substr(3) : "no model yet"}};
+    http_->set_status(j.dump());
   }
+}
+
+std::string Station::tracking_state() const {
+  if (!s_.tracking) return " | tracking off";
+  if (frames_tracked_ + frames_lost_ == 0) return " | tracking starts";
+  if (!track_.tracked)
+    return " | HEAD LOST: " + (track_.reason.empty() ? "not yet" : track_.reason);
+  char text[96];
+  std::snprintf(text, sizeof(text), " | head tracked (yaw %.1f pitch %.1f)", track_.pose.yaw_deg(),
+                track_.pose.pitch_deg());
+  return text;
 }
 
 void Station::write_summary() {
@@ -322,6 +338,16 @@ void Station::write_summary() {
       {"retexture_every", s_.retexture_every},
       {"set_photos_ms_median", percentile(retexture_ms_, 0.5)},
       {"render_ms_median", percentile(draw_ms_, 0.5)},
+      {"tracking",
+       {{"enabled", s_.tracking},
+        {"frames_tracked", frames_tracked_},
+        {"frames_lost", frames_lost_},
+        {"track_ms_median", percentile(track_ms_, 0.5)},
+        {"state", live_ ? tracking_state().substr(3) : "no model"},
+        {"last_pose_deg",
+         {{"yaw", track_.pose.yaw_deg()},
+          {"pitch", track_.pose.pitch_deg()},
+          {"roll", track_.pose.roll_deg()}}}}},
       {"view_yaw_deg", s_.yaw_deg},
       {"view_pitch_deg", s_.pitch_deg},
       {"pairs_saved", pairs_saved_},

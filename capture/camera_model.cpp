@@ -201,6 +201,30 @@ CameraModel turned_camera(const CameraModel& camera, double yaw_deg, double pitc
   return c;
 }
 
+CameraModel posed_camera(const CameraModel& camera, const Eigen::Matrix3d& head_rotation,
+                         const Eigen::Vector3d& head_translation_mm) {
+  if (const std::string why = camera_problem(camera); !why.empty())
+    throw std::invalid_argument("posed camera: " + why);
+  if (!head_rotation.allFinite() || !head_translation_mm.allFinite())
+    throw std::invalid_argument("posed camera: the head rotation and translation must be finite");
+  const double off_orthogonal =
+      (head_rotation.transpose() * head_rotation - Eigen::Matrix3d::Identity())
+          .cwiseAbs()
+          .maxCoeff();
+  if (off_orthogonal > 1e-6 || head_rotation.determinant() < 0)
+    throw std::invalid_argument(
+        "posed camera: the head rotation is not a rotation (R^T R differs from I by " +
+        std::to_string(off_orthogonal) + ", det " + std::to_string(head_rotation.determinant()) +
+        ")");
+  // cam_from_head' X = cam_from_head (R X + t).
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = head_rotation;
+  pose.translation() = head_translation_mm;
+  CameraModel c = camera;
+  c.cam_from_head = camera.cam_from_head * pose;
+  return c;
+}
+
 CameraModel reflected(const CameraModel& camera, const Eigen::Vector4d& plane) {
   if (const std::string why = camera_problem(camera); !why.empty())
     throw std::invalid_argument("reflected camera: " + why);

@@ -75,6 +75,14 @@ CameraModel view_camera(const RigCalibration& rig, double yaw_deg, double pitch_
 CameraModel turned_camera(const CameraModel& camera, double yaw_deg, double pitch_deg,
                           const Eigen::Vector3d& pivot);
 
+// `camera` seeing the head moved by the rigid pose X -> head_rotation * X + head_translation_mm
+// (head frame, mm; e.g. a tracked head pose): cam_from_head composed with the pose, so
+// project(posed_camera(c, R, t), X) == project(c, R * X + t) for every head point X; intrinsics
+// unchanged. Throws std::invalid_argument on a camera_problem(), a non-finite R or t, or an R
+// that is not a rotation (|R^T R - I| > 1e-6, max entry, or det R < 0).
+CameraModel posed_camera(const CameraModel& camera, const Eigen::Matrix3d& head_rotation,
+                         const Eigen::Vector3d& head_translation_mm);
+
 // The camera whose image, flipped left to right, is what `camera` sees of the scene's mirror
 // image through the head-frame plane n . p = d (plane = (n, d), |n| = 1): pose F cam M with M the
 // reflection and F = x -> -x in the camera frame (a rotation again), cx' = width - cx and the

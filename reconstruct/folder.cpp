@@ -201,14 +201,15 @@ capture::CameraModel ViewModel::camera(const capture::CameraModel& base, double 
   return capture::turned_camera(base, yaw_deg, pitch_deg, pivot);
 }
 
-ViewModel view_model(const Reconstruction& r, HeadExtent extent) {
+ViewModel view_model(const Reconstruction& r, HeadExtent extent,
+                     const model::HullOptions& hull_options) {
   ViewModel v;
   v.mesh = r.mesh;
   v.face_vertices = int(r.mesh.vertices.size());
   if (extent == HeadExtent::Face || r.front_silhouette.empty() || r.side_silhouette.empty())
     return v;
   const model::HeadHull hull =
-      model::head_hull(r.front_silhouette, r.side_silhouette, r.photo_rig, r.mesh);
+      model::head_hull(r.front_silhouette, r.side_silhouette, r.photo_rig, r.mesh, hull_options);
   if (hull.mesh.triangles.empty()) return v;
   v.mesh = model::combined(r.mesh, hull.mesh);
   if (hull.pivot.allFinite()) v.pivot = hull.pivot;

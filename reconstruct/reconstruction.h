@@ -17,6 +17,7 @@
 
 #include "capture/camera_model.h"
 #include "model/adapt.h"
+#include "model/head_hull.h"
 #include "model/stereo.h"
 #include "vision/observation.h"
 #include "vision/observe.h"
@@ -171,7 +172,10 @@ struct ViewModel {
   capture::CameraModel camera(const capture::CameraModel& base, double yaw_deg,
                               double pitch_deg) const;
 };
-ViewModel view_model(const Reconstruction& reconstruction, HeadExtent extent);
+// `hull` sets how finely the head hull is sliced (the live view takes a coarser one: every
+// triangle is drawn three times a frame there).
+ViewModel view_model(const Reconstruction& reconstruction, HeadExtent extent,
+                     const model::HullOptions& hull = {});
 
 // A view synthesizer loaded with the reconstruction: the model's mesh (its face vertices marked),
 // both photos where they were taken, the side mask, and the mid-sagittal plane of its landmarks

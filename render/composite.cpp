@@ -65,30 +65,49 @@ cv::Mat composite(const RenderResult& view, const cv::Mat& background, const Com
   require(!(o.fade_to_row < o.fade_from_row) && !std::isnan(o.fade_from_row) &&
               !std::isnan(o.fade_to_row),
           "composite: fade_to_row must not be above fade_from_row");
-  cv::Mat alpha;
-  view.mask.convertTo(alpha, CV_32F, 1.0 / 255);
+  // Alpha is 0 off the mask (the feather only lowers it): outside the mask's bounding box the
+  // background is copied and the work below covers the box alone (the same values as over the
+  // whole image: the blur reads the pixels around the box).
+  cv::Mat out = background.clone();
+  const cv::Rect box = cv::boundingRect(view.mask);
+  if (box.empty()) return out;
+  const cv::Rect image(0, 0, view.mask.cols, view.mask.rows);
+  const int pad = o.feather_px > 0 ? int(std::ceil(4 * o.feather_px)) + 2 : 0;
+  const cv::Rect padded =
+      cv::Rect(box.x - pad, box.y - pad, box.width + 2 * pad, box.height + 2 * pad) & image;
+  cv::Mat alpha_padded;
+  view.mask(padded).convertTo(alpha_padded, CV_32F, 1.0 / 255);
+  cv::Mat alpha = alpha_padded(box - padded.tl());
   if (o.feather_px > 0) {
     // Inside the mask only: the edge fades inward, never onto pixels the view left empty.
+    // The blur of the box reads its neighbours (up to its radius, < pad) in the parent image.
+    cv::Mat whole = cv::Mat::zeros(view.mask.size(), CV_32F);
+    alpha_padded.copyTo(whole(padded));
     cv::Mat soft;
-    cv::GaussianBlur(alpha, soft, cv::Size(0, 0), o.feather_px);
+    cv::GaussianBlur(whole(box), soft, cv::Size(0, 0), o.feather_px);
     alpha = cv::min(alpha, soft * 2.0f);
   }
   for (int y = 0; y < alpha.rows; ++y) {
-    const double row = y + 0.5;
+    const double row = box.y + y + 0.5;
     if (!(row > o.fade_from_row)) continue;
     const double span = o.fade_to_row - o.fade_from_row;
     const double t = span > 0 ? std::clamp((row - o.fade_from_row) / span, 0.0, 1.0) : 1.0;
     alpha.row(y) *= float(1 - t * t * (3 - 2 * t));
   }
-  cv::Mat out(view.image.size(), CV_8UC3);
-  for (int y = 0; y < out.rows; ++y) {
+  for (int y = 0; y < box.height; ++y) {
     const auto* a = alpha.ptr<float>(y);
-    const auto* f = view.image.ptr<cv::Vec3b>(y);
-    const auto* b = background.ptr<cv::Vec3b>(y);
-    auto* o = out.ptr<cv::Vec3b>(y);
-    for (int x = 0; x < out.cols; ++x)
+    const auto* f = view.image.ptr<cv::Vec3b>(box.y + y) + box.x;
+    const auto* b = background.ptr<cv::Vec3b>(box.y + y) + box.x;
+    auto* o = out.ptr<cv::Vec3b>(box.y + y) + box.x;
+    for (int x = 0; x < box.width; ++x) {
+      if (a[x] == 0) continue;  // the background, as a * f + (1 - a) * b gives it
+      if (a[x] == 1) {
+        o[x] = f[x];
+        continue;
+      }
       for (int c = 0; c < 3; ++c)
         o[x][c] = cv::saturate_cast<uchar>(a[x] * f[x][c] + (1 - a[x]) * b[x][c]);
+    }
   }
   return out;
 }

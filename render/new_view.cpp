@@ -102,6 +102,20 @@ std::string view_fragment(const capture::RigCalibration& rig, Visibility visibil
   return defines + shaders::kViewFragment;
 }
 
+// What view_fragment takes from the rig: each source's projection and whether it is distorted
+// (the programs made for one rig serve any rig with the same key).
+std::array<bool, 4> program_key(const capture::RigCalibration& rig) {
+  std::array<bool, 4> key{};
+  const capture::CameraModel* cams[2] = {&rig.front, &rig.side};
+  for (int i = 0; i < 2; ++i) {
+    key[2 * i] = cams[i]->projection == capture::Projection::Perspective;
+    if (key[2 * i])
+      for (size_t k = 0; k < cams[i]->distortion.size() && k < 5; ++k)
+        key[2 * i + 1] = key[2 * i + 1] || cams[i]->distortion[k] != 0;
+  }
+  return key;
+}
+
 }  // namespace
 
 Blend parse_blend(const std::string& name) {
@@ -196,6 +210,7 @@ struct ViewSynthesizer::Impl {
       const GLuint tex[4] = {s.zmap, s.photo, s.photo_eq, s.lut};
       glDeleteTextures(4, tex);
       if (s.eq_fbo) glDeleteFramebuffers(1, &s.eq_fbo);
+      if (s.depth_fbo) glDeleteFramebuffers(1, &s.depth_fbo);
     }
     glDeleteVertexArrays(1, &empty_vao);
     if (seen_vbo) glDeleteBuffers(1, &seen_vbo);
@@ -209,10 +224,14 @@ struct ViewSynthesizer::Impl {
 
   const capture::CameraModel& cam(int i) const { return i == 0 ? rig.front : rig.side; }
   void upload_seen();
+  bool seen_stale = false;  // the sources' depth maps changed since upload_seen
   void sort_elements(const SynthesisOptions& o, double bias);
   void upload_photos(const cv::Mat& front, const cv::Mat& side);
   void match_colours();
-  void equalize_photos();
+  // photo_eq = lookup(photo) over each source's footprint; `keep` leaves the texels already
+  // equalised with these photos and this match (`equalized`) as they are.
+  void equalize_photos(bool keep = false);
+  std::array<cv::Rect, 2> equalized{};  // photo_eq texels equalised (texture coordinates)
   void source_uniforms(GLuint prog);
   GLuint view_program(Visibility visibility, bool weighted, int only_source, bool sources_out,
                       bool mirror);
@@ -222,11 +241,12 @@ struct ViewSynthesizer::Impl {
 // Per-vertex visibility in each source (the fast path's occlusion test) and whether the vertex
 // is the face's (set_face_vertices), attribute 4.
 void ViewSynthesizer::Impl::upload_seen() {
+  const cv::Mat depth[2] = {detail::read_source_depth(src[0]), detail::read_source_depth(src[1])};
   std::vector<float> seen(vertices.size() * 3);
   for (size_t v = 0; v < vertices.size(); ++v) {
     for (int i = 0; i < 2; ++i) {
       const double cosine = detail::facing(cam(i), vertices[v], normals[v]);
-      seen[3 * v + i] = detail::source_sees(cam(i), src[i].depth, vertices[v], cosine, 1.0);
+      seen[3 * v + i] = detail::source_sees(cam(i), depth[i], vertices[v], cosine, 1.0);
     }
     seen[3 * v + 2] = face_vertices < 0 || v < size_t(face_vertices) ? 1.0f : 0.0f;
   }
@@ -238,6 +258,7 @@ void ViewSynthesizer::Impl::upload_seen() {
   glEnableVertexAttribArray(4);
   glVertexAttribPointer(4, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glBindVertexArray(0);
+  seen_stale = false;
 }
 
 // The element buffer sorted by TriangleClass for the view's bias (render/triangle_classes.h).
@@ -250,7 +271,8 @@ void ViewSynthesizer::Impl::sort_elements(const SynthesisOptions& o, double bias
   if (!facts_for || facts_for->visibility_tolerance_mm != o.visibility_tolerance_mm) {
     std::array<TriangleSource, 2> sources;
     for (int i = 0; i < 2; ++i)  // texture texels = photo pixels: the mask tests are exact
-      sources[i] = {cam(i), src[i].depth, src[i].mask, src[i].photo_size == src[i].raw.size()};
+      sources[i] = {cam(i), detail::read_source_depth(src[i]), src[i].mask,
+                    src[i].photo_size == src[i].raw.size()};
     facts = triangle_facts(vertices, normals, triangles, sources, o.visibility_tolerance_mm);
     facts_for = o;
     ordered_for.reset();
@@ -282,20 +304,24 @@ void ViewSynthesizer::Impl::upload_photos(const cv::Mat& front, const cv::Mat& s
 // Equalisation statistics from the current mesh, source depth maps and photos, as one lookup
 // texture per source.
 void ViewSynthesizer::Impl::match_colours() {
-  match = detail::colour_match(vertices, normals, rig, {src[0].depth, src[1].depth},
-                               {src[0].raw, src[1].raw});
+  match =
+      detail::colour_match(vertices, normals, rig,
+                           {detail::read_source_depth(src[0]), detail::read_source_depth(src[1])},
+                           {src[0].raw, src[1].raw});
   for (int i = 0; i < 2; ++i)
     detail::upload_lut(detail::equalize_grid(match, i, detail::kLutSize), src[i].lut);
 }
 
 // photo_eq = lookup(photo), one full-frame pass per source on the GL side (no CPU colour work).
-void ViewSynthesizer::Impl::equalize_photos() {
+void ViewSynthesizer::Impl::equalize_photos(bool keep) {
   glUseProgram(equalize_prog);
   glEnable(GL_SCISSOR_TEST);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
   glBindVertexArray(empty_vao);
   for (detail::SourceGl& s : src) {
+    // The front photo is the reference: the views sample its raw texture (render_direct).
+    if (&s == &src[0]) continue;
     detail::ensure_target(s.photo_eq, s.photo_eq_size, s.eq_fbo, s.photo_size);
     glBindFramebuffer(GL_FRAMEBUFFER, s.eq_fbo);
     glDrawBuffer(GL_COLOR_ATTACHMENT0);
@@ -305,12 +331,25 @@ void ViewSynthesizer::Impl::equalize_photos() {
                                int(std::floor(s.footprint.y * to_texture))),
                      cv::Point(int(std::ceil(s.footprint.br().x * to_texture)),
                                int(std::ceil(s.footprint.br().y * to_texture))));
-    glScissor(f.x, f.y, f.width, f.height);  // GL window row = image row (texture t = row)
+    // With `keep`, only the strips of f outside the texels already equalised.
+    const int i = int(&s - src);
+    const cv::Rect e = keep ? equalized[i] & f : cv::Rect();
+    std::array<cv::Rect, 4> parts{f};
+    if (!e.empty())
+      parts = {cv::Rect(f.x, f.y, f.width, e.y - f.y),
+               cv::Rect(f.x, e.br().y, f.width, f.br().y - e.br().y),
+               cv::Rect(f.x, e.y, e.x - f.x, e.height),
+               cv::Rect(e.br().x, e.y, f.br().x - e.br().x, e.height)};
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, s.photo);
     glActiveTexture(GL_TEXTURE1);
     glBindTexture(GL_TEXTURE_2D, s.lut);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    for (const cv::Rect& part : parts) {
+      if (part.empty()) continue;
+      glScissor(part.x, part.y, part.width, part.height);  // GL window row = image row
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+    }
+    equalized[i] = f;
   }
   glDisable(GL_SCISSOR_TEST);
   glActiveTexture(GL_TEXTURE0);
@@ -397,6 +436,35 @@ void ViewSynthesizer::set_mesh(const mesh::TriMesh& mesh) {
   if (impl_->has_photos) update_colour_match();  // the surface both cameras see has changed
 }
 
+void ViewSynthesizer::set_rig(const capture::RigCalibration& rig) {
+  gl::check_camera(rig.front, "new view: front camera");
+  gl::check_camera(rig.side, "new view: side camera");
+  Impl& m = *impl_;
+  as_bgr(m.src[0].raw, rig.front, "front");  // the photos stay: their cameras keep their sizes
+  as_bgr(m.src[1].raw, rig.side, "side");
+  m.context.make_current();
+  if (program_key(rig) != program_key(m.rig))  // the shaders are specialised for the cameras
+    for (GLuint& p : m.view_prog) {
+      if (p) glDeleteProgram(p);
+      p = 0;
+    }
+  m.rig = rig;
+  m.ordered_for.reset();  // triangle classes: facing, photo positions and occlusion per source
+  m.facts_for.reset();
+  for (int i = 0; i < 2; ++i) {
+    m.src[i].footprint = detail::photo_footprint(m.cam(i), m.vertices);
+    detail::render_source_depth(m.cam(i), m.mesh, m.depth_prog, m.src[i]);
+  }
+  // The per-vertex visibility (only the per-vertex programs read it) is made again by the next
+  // render that needs it: per-pixel renders use the depth maps on the GL side alone.
+  m.seen_stale = true;
+  for (GLuint p : m.view_prog)
+    if (p) m.source_uniforms(p);
+  // The colour match is kept: the photos are equalised again only where the new footprints
+  // reach past the texels already equalised.
+  m.equalize_photos(true);
+}
+
 void ViewSynthesizer::set_face_vertices(int count) {
   if (count < -1 || count > int(impl_->vertices.size()))
     throw std::invalid_argument("set_face_vertices: " + std::to_string(count) +
@@ -462,7 +530,8 @@ cv::Mat ViewSynthesizer::source_depth(int source) const {
   if (source != 0 && source != 1)
     throw std::invalid_argument("new view: source must be 0 (front) or 1 (side), got " +
                                 std::to_string(source));
-  return impl_->src[source].depth.clone();
+  impl_->context.make_current();
+  return detail::read_source_depth(impl_->src[source]).clone();
 }
 
 bool ViewSynthesizer::mirrors_view(const capture::CameraModel& camera,
@@ -493,6 +562,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
                                                const SynthesisOptions& o) {
   Impl& m = *impl_;
   m.context.make_current();
+  if (!o.per_pixel_visibility && m.seen_stale) m.upload_seen();  // after set_rig
   // Attachments: the blend, the source weights, and for floating textures each photo alone.
   const bool floating = o.float_textures;
   const int outputs = floating ? 4 : o.source_weights ? 2 : 1;

@@ -135,6 +135,21 @@ class ViewSynthesizer {
   void set_face_vertices(int count);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
+  // New source cameras (e.g. the station's rig composed with a tracked head pose,
+  // capture::posed_camera) for the same mesh and photos: the cameras must pass the constructor's
+  // checks and keep the photos' sizes (std::invalid_argument naming the camera otherwise, and
+  // nothing changes). Re-renders the two source depth maps, the per-vertex visibility and the
+  // rig's shader uniforms (the view programs are rebuilt only when a camera's projection or
+  // distortion on/off changes) and re-equalises the photos; the colour match is kept (as
+  // set_photos' Keep; update_colour_match() recomputes it) and so are the photo masks and the
+  // mirror plane. The triangle classes of the per-pixel fast path (skip_unoccluded without
+  // floating textures) are recomputed lazily by the next such render().
+  // Cost: two depth renders (about 2 ms each for a 640x480 rig and the 4k-triangle sim head
+  // under llvmpipe) and the side photo's equalisation only where its footprint moved past the
+  // texels already equalised. The depth maps' CPU copies and the per-vertex visibility are made
+  // when first needed (per-vertex visibility, the colour match, the triangle classes,
+  // source_depth()): per-pixel renders use the depth maps on the GL side alone.
+  void set_rig(const capture::RigCalibration& rig);
   // A new mesh for the same rig and photos (re-renders the source depth maps).
   void set_mesh(const mesh::TriMesh& mesh);
 

@@ -62,25 +62,32 @@ void upload_lut(const cv::Mat& grid, GLuint& tex) {
 
 // Linear depth map of the source, (z_cam - near) / (far - near), into a depth texture sampled
 // with comparison at the nearest texel (one fetch: 2x2 PCF cost about 1 ms CPU per 640x480
-// frame on llvmpipe and changed no PSNR on the sim heads or the scan by 0.1 dB), plus its z_cam
-// copy on the CPU. Back faces culled.
+// frame on llvmpipe and changed no PSNR on the sim heads or the scan by 0.1 dB). Back faces
+// culled. The texture and its framebuffer are kept while the size stays; the z_cam copy on the
+// CPU is read back later, when asked for (read_source_depth).
 void render_source_depth(const capture::CameraModel& c, const gl::GpuMesh& mesh, GLuint depth_prog,
                          SourceGl& s) {
-  if (!s.zmap) glGenTextures(1, &s.zmap);
-  glBindTexture(GL_TEXTURE_2D, s.zmap);
-  glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
-               GL_FLOAT, nullptr);
-  gl::linear_clamp_parameters();
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  GLuint fbo = 0;
-  glGenFramebuffers(1, &fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s.zmap, 0);
-  glDrawBuffer(GL_NONE);
-  glReadBuffer(GL_NONE);
+  const cv::Size size(c.width, c.height);
+  if (!s.zmap || s.zmap_size != size) {
+    if (!s.zmap) glGenTextures(1, &s.zmap);
+    glBindTexture(GL_TEXTURE_2D, s.zmap);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT32F, c.width, c.height, 0, GL_DEPTH_COMPONENT,
+                 GL_FLOAT, nullptr);
+    gl::linear_clamp_parameters();
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+    if (!s.depth_fbo) glGenFramebuffers(1, &s.depth_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, s.depth_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, s.zmap, 0);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE)
+      throw std::runtime_error("new view: source depth framebuffer is incomplete");
+    s.zmap_size = size;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, s.depth_fbo);
   glViewport(0, 0, c.width, c.height);
   const float one = 1.0f;
   glClearBufferfv(GL_DEPTH, 0, &one);
@@ -101,12 +108,23 @@ void render_source_depth(const capture::CameraModel& c, const gl::GpuMesh& mesh,
     glDrawElements(GL_TRIANGLES, mesh.count, GL_UNSIGNED_INT, nullptr);
     glBindVertexArray(0);
   }
-  s.depth.create(c.height, c.width, CV_32F);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, c.width, c.height, GL_DEPTH_COMPONENT, GL_FLOAT, s.depth.data);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  glDeleteFramebuffers(1, &fbo);
+  s.depth_stale = true;
+}
+
+const cv::Mat& read_source_depth(SourceGl& s) {
+  if (!s.depth_stale) return s.depth;
+  s.depth.create(s.zmap_size, CV_32F);
+  GLint bound = 0;  // e.g. a view being drawn: its framebuffer stays bound for drawing
+  glGetIntegerv(GL_READ_FRAMEBUFFER_BINDING, &bound);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, s.depth_fbo);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, s.zmap_size.width, s.zmap_size.height, GL_DEPTH_COMPONENT, GL_FLOAT,
+               s.depth.data);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, GLuint(bound));
   gl::window_depth_to_zcam(s.depth, s.zrange[0], s.zrange[1], false);  // linear by construction
+  s.depth_stale = false;
+  return s.depth;
 }
 
 // The equalisation pass only needs these pixels.

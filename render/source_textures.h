@@ -18,9 +18,12 @@ namespace orthoface::render::detail {
 struct SourceGl {
   GLuint zmap = 0, photo = 0, photo_eq = 0;  // zmap: linear depth texture, compare mode
   GLuint lut = 0, eq_fbo = 0;                // equalisation: 3D colour lookup, FBO on photo_eq
+  GLuint depth_fbo = 0;                      // framebuffer on zmap
+  cv::Size zmap_size;                        // allocated size of zmap
   cv::Size photo_size, photo_eq_size;        // allocated sizes of photo, photo_eq
   std::array<double, 2> zrange{0, 0};        // near, far of zmap
   cv::Mat depth;                             // z_cam (mm), CV_32F, +inf where empty
+  bool depth_stale = false;                  // zmap re-rendered since `depth` was read
   cv::Mat raw;                               // the photo as set (buffer reused)
   cv::Mat mask;                              // subject mask (alpha), eroded; empty = all
   cv::Rect footprint;                        // photo pixels the mesh can take colour from
@@ -41,10 +44,14 @@ void ensure_target(GLuint& tex, cv::Size& allocated, GLuint& fbo, cv::Size size)
 // The equalisation grid (detail::equalize_grid, kLutSize per axis) as a 2D RGBA8 texture.
 void upload_lut(const cv::Mat& grid, GLuint& tex);
 
-// Renders `mesh` from `camera` with `depth_prog` (shaders::kSourceDepth*) into source.zmap,
-// source.zrange and source.depth.
+// Renders `mesh` from `camera` with `depth_prog` (shaders::kSourceDepth*) into source.zmap and
+// source.zrange; source.depth is marked stale (read_source_depth reads it when needed).
 void render_source_depth(const capture::CameraModel& camera, const gl::GpuMesh& mesh,
                          GLuint depth_prog, SourceGl& source);
+
+// source.depth, read back from source.zmap first when a render_source_depth has not been read
+// yet (the context must be current).
+const cv::Mat& read_source_depth(SourceGl& source);
 
 // The photo pixels `vertices` project to in `camera` (with distortion), plus a margin for
 // bilinear sampling, within the image; empty when none projects.

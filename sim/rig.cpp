@@ -14,9 +14,11 @@
 namespace orthoface::sim {
 namespace {
 
-constexpr int kMaxImageSide = 8192;      // render::Renderer's limit
-constexpr double kMaxPoseErrorDeg = 15;  // "small" pose errors
-constexpr double kSelfHitMm = 1.0;       // hits this close to a landmark are its own surface
+constexpr int kMaxImageSide = 8192;  // render::Renderer's limit
+// A camera's pose error, or the turn of a moving head played as the cameras turning about it
+// (sim/sim_camera.h): up to 30 deg of yaw and 20 of pitch, with room for a rig error on top.
+constexpr double kMaxPoseErrorDeg = 45;
+constexpr double kSelfHitMm = 1.0;  // hits this close to a landmark are its own surface
 
 void require(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("RigOptions: " + what);
@@ -27,7 +29,7 @@ double rad(double deg) { return deg * M_PI / 180.0; }
 void check_pose_error(const PoseError& e, const std::string& which) {
   for (double a : {e.roll_deg, e.yaw_deg, e.pitch_deg})
     require(std::isfinite(a) && std::abs(a) <= kMaxPoseErrorDeg,
-            which + " pose error angles must be finite and within +-15 degrees");
+            which + " pose error angles must be finite and within +-45 degrees");
   require(e.offset_mm.allFinite() && e.offset_mm.cwiseAbs().maxCoeff() <= 100.0,
           which + " pose offset must be finite and within +-100 mm");
 }
@@ -265,8 +267,13 @@ Capture simulate_capture(const Head& head, const RigOptions& options) {
 
 render::RenderResult true_view(const Head& head, const RigOptions& options, double yaw_rad,
                                double pitch_rad, render::Renderer& renderer) {
-  const capture::CameraModel cam = true_view_camera(options, yaw_rad, pitch_rad);
-  return renderer.render(head.mesh, cam, render_options(options, options.background_bgr));
+  return render_head(head, options, true_view_camera(options, yaw_rad, pitch_rad), renderer);
+}
+
+render::RenderResult render_head(const Head& head, const RigOptions& options,
+                                 const capture::CameraModel& camera, render::Renderer& renderer) {
+  options.check();
+  return renderer.render(head.mesh, camera, render_options(options, options.background_bgr));
 }
 
 }  // namespace orthoface::sim

@@ -72,6 +72,12 @@ capture::RigCalibration true_rig(const RigOptions& options);
 Capture simulate_capture(const Head& head, const RigOptions& options, render::Renderer& renderer);
 Capture simulate_capture(const Head& head, const RigOptions& options);  // one-off context
 
+// The head under the rig's lighting, no noise, blur or clutter (plain background_bgr), seen by
+// any `camera` (e.g. a live view's, capture::posed_camera of a moving head). Throws as
+// render::Renderer::render does.
+render::RenderResult render_head(const Head& head, const RigOptions& options,
+                                 const capture::CameraModel& camera, render::Renderer& renderer);
+
 // Ground truth for a new view: the head under the same lighting, no noise, blur or clutter
 // (plain background_bgr), seen from yaw / pitch (radians, DESIGN.md) with the nominal front
 // camera's intrinsics at the same distance. mask / depth_mm as in render::RenderResult.

@@ -9,6 +9,10 @@
 #include <stdexcept>
 #include <thread>
 #include <tuple>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
 
 #include "sim/head.h"
 #include "sim/rig.h"
@@ -18,30 +22,48 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The RigOptions that render frame `sequence` of a width x height mode: the ideal rig scaled
+// with the width, the head's turn played as both cameras turning about it (sim/sim_camera.h).
+RigOptions frame_rig_options(const SimCameraOptions& o, int width, int height,
+                             std::uint64_t sequence) {
+  RigOptions rig;
+  rig.width = width;
+  rig.height = height;
+  rig.px_per_mm *= width / 640.0;
+  const double k = static_cast<double>(sequence % static_cast<std::uint64_t>(o.cycle_frames));
+  const double yaw = o.motion_deg * std::sin(2 * kPi * k / o.cycle_frames);
+  const double pitch = o.pitch_deg * std::sin(4 * kPi * k / o.cycle_frames);
+  // Head yaw = both cameras yawing about their image y axes (level rig). Head pitch = the front
+  // camera pitching about its image x axis = the side camera rolling about its view axis by
+  // -pitch (its view axis is -x of the head frame, its image x is -z).
+  rig.front_error.yaw_deg = rig.side_error.yaw_deg = yaw;
+  rig.front_error.pitch_deg = pitch;
+  rig.side_error.roll_deg = -pitch;
+  rig.noise_sigma = o.noise_sigma;
+  rig.seed = sequence % static_cast<std::uint64_t>(o.cycle_frames);  // a new draw every frame
+  return rig;
+}
+
 // The rendered loop of one subject at one size: both views of each pose. Shared by the front
-// and side cameras of a subject so the pair is rendered once.
+// and side cameras of a subject (same motion) so the pair is rendered once.
 struct Loop {
   std::vector<cv::Mat> front, side;
 };
 
 std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, int height) {
   static std::mutex m;
-  static std::map<std::tuple<int, int, int, int, double>, std::weak_ptr<const Loop>> cache;
+  static std::map<std::tuple<int, int, int, int, double, double, double>, std::weak_ptr<const Loop>>
+      cache;
   std::lock_guard<std::mutex> lock(m);
-  const auto key = std::make_tuple(o.subject, width, height, o.cycle_frames, o.motion_deg);
+  const auto key = std::make_tuple(o.subject, width, height, o.cycle_frames, o.motion_deg,
+                                   o.pitch_deg, o.noise_sigma);
   if (auto hit = cache[key].lock()) return hit;
   const Head head = make_head(o.subject);
-  RigOptions rig;
-  rig.width = width;
-  rig.height = height;
-  rig.px_per_mm *= width / 640.0;
   render::Renderer renderer;
   auto loop = std::make_shared<Loop>();
   for (int k = 0; k < o.cycle_frames; ++k) {
-    // A head turn of theta equals both cameras turning about their image y axes (level rig).
-    const double theta = o.motion_deg * std::sin(2 * kPi * k / o.cycle_frames);
-    rig.front_error.yaw_deg = rig.side_error.yaw_deg = theta;
-    const Capture c = simulate_capture(head, rig, renderer);
+    const Capture c = simulate_capture(
+        head, frame_rig_options(o, width, height, static_cast<std::uint64_t>(k)), renderer);
     loop->front.push_back(c.front);
     loop->side.push_back(c.side);
   }
@@ -112,9 +134,26 @@ void SimCameraOptions::check() const {
     throw std::invalid_argument("SimCameraOptions: cycle_frames must be in 1..240");
   if (!(std::abs(motion_deg) <= 30))
     throw std::invalid_argument("SimCameraOptions: motion_deg must be in [-30, 30]");
+  if (!(std::abs(pitch_deg) <= 20))
+    throw std::invalid_argument("SimCameraOptions: pitch_deg must be in [-20, 20]");
+  if (!(noise_sigma >= 0 && noise_sigma <= 20))
+    throw std::invalid_argument("SimCameraOptions: noise_sigma must be in [0, 20]");
   if (!(jitter_s >= 0 && jitter_s < 0.01))
     throw std::invalid_argument("SimCameraOptions: jitter_s must be in [0, 0.01)");
   if (!std::isfinite(phase_s)) throw std::invalid_argument("SimCameraOptions: phase_s not finite");
+}
+
+Eigen::Matrix3d sim_head_rotation(const SimCameraOptions& options, std::uint64_t sequence) {
+  const capture::RigCalibration truth = sim_camera_rig(options, 640, 480, sequence);
+  const capture::RigCalibration nominal =
+      nominal_rig(frame_rig_options(options, 640, 480, sequence));
+  return nominal.front.cam_from_head.linear().transpose() * truth.front.cam_from_head.linear();
+}
+
+capture::RigCalibration sim_camera_rig(const SimCameraOptions& options, int width, int height,
+                                       std::uint64_t sequence) {
+  options.check();
+  return true_rig(frame_rig_options(options, width, height, sequence));
 }
 
 std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options) {
@@ -125,16 +164,52 @@ std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options
 }
 
 std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
-  static const std::regex re(R"(sim:(\d{1,6})/(front|side))");
+  static const std::regex re(R"(sim:(\d{1,6})/(front|side)(?:\?(.*))?)");
   std::smatch m;
   if (!std::regex_match(id, m, re))
     throw std::runtime_error("camera " + id +
-                             ": expected sim:N/front or sim:N/side (N = subject number)");
+                             ": expected sim:N/front or sim:N/side (N = subject number), "
+                             "optionally ?yaw=DEG&pitch=DEG&frames=N&noise=SIGMA");
   SimCameraOptions o;
   o.subject = std::stoi(m[1]);
   o.side = m[2] == "side";
-  auto cam = open_sim_camera(o);
-  return cam;
+  const std::string query = m[3];
+  for (size_t begin = 0; begin <= query.size();) {
+    size_t end = query.find('&', begin);
+    if (end == std::string::npos) end = query.size();
+    const std::string item = query.substr(begin, end - begin);
+    begin = end + 1;
+    if (item.empty()) continue;
+    const size_t eq = item.find('=');
+    const std::string key = item.substr(0, eq);
+    if (key != "yaw" && key != "pitch" && key != "frames" && key != "noise")
+      throw std::runtime_error("camera " + id + ": unknown option '" + key +
+                               "' (expected yaw, pitch, frames or noise)");
+    const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
+    double v = 0;
+    size_t used = 0;
+    try {
+      v = std::stod(value, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (value.empty() || used != value.size() || !std::isfinite(v) ||
+        (key == "frames" && v != std::floor(v)))
+      throw std::runtime_error("camera " + id + ": " + key + " = '" + value + "' is not " +
+                               (key == "frames" ? "a whole number" : "a number (degrees)"));
+    if (key == "yaw") o.motion_deg = v;
+    if (key == "pitch") o.pitch_deg = v;
+    if (key == "noise") o.noise_sigma = v;
+    if (key == "frames") o.cycle_frames = std::abs(v) < 1e6 ? static_cast<int>(v) : -1;
+  }
+  try {
+    o.check();
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error("camera " + id + ": " + e.what() +
+                             " (query keys: yaw = motion_deg, pitch = pitch_deg, frames = "
+                             "cycle_frames, noise = noise_sigma)");
+  }
+  return std::make_unique<SimCamera>(id, o);
 }
 
 void register_sim_cameras() {

@@ -19,7 +19,10 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include "app/station_http.h"
+#include "sim/sim_camera.h"
 #include "tests/common/test_data.h"
 
 namespace {
@@ -301,6 +304,57 @@ TEST(StationCommand, HttpPageServesLiveImagesAndPairs) {
   EXPECT_GT(sd[0] + sd[1] + sd[2], 30.0);
   fs::copy_file(shot, fs::temp_directory_path() / "orthoface_station_page.png",
                 fs::copy_options::overwrite_existing);
+}
+
+// A head that turns and nods, recorded from the simulated cameras as image sequences and played
+// back through file: cameras: the station fits the first pair, tracks the head in every frame
+// and says so in its summary.
+TEST(StationCommand, TracksAMovingHeadReplayedFromFiles) {
+  const auto dir = orthoface::testing::temp_dir("station_tracking");
+  ASSERT_EQ(orthoface("simulate --subject 4 --out " + (dir / "sim").string()).code, 0);
+  fs::create_directories(dir / "clips");
+  constexpr int kFrames = 60;
+  for (const bool side : {false, true}) {
+    orthoface::sim::SimCameraOptions o;
+    o.subject = 4;
+    o.side = side;
+    o.motion_deg = 20;
+    o.pitch_deg = 10;
+    o.cycle_frames = kFrames;
+    auto cam = orthoface::sim::open_sim_camera(o);
+    cam->start({"BGR3", 640, 480, 30});
+    std::vector<bool> written(kFrames, false);
+    for (int n = 0; std::count(written.begin(), written.end(), true) < kFrames; ++n) {
+      ASSERT_LT(n, 20 * kFrames) << "the sim camera did not play every frame of its loop";
+      const auto f = cam->next_frame(1.0);
+      ASSERT_EQ(f.status, orthoface::capture::FrameStatus::Ok) << f.message;
+      const int k = static_cast<int>(f.frame.sequence % kFrames);
+      if (written[k]) continue;
+      char name[32];
+      std::snprintf(name, sizeof(name), "%s_%03d.png", side ? "side" : "front", k);
+      ASSERT_TRUE(cv::imwrite((dir / "clips" / name).string(), f.frame.image));
+      written[k] = true;
+    }
+    cam->stop();
+  }
+  const std::string clips = (dir / "clips").string();
+  const int port = free_port();
+  const CmdResult r = orthoface(
+      "station --front 'file:" + clips + "/front_%03d.png?fps=30&loop' --side 'file:" + clips +
+      "/side_%03d.png?fps=30&loop' --rig " + (dir / "sim" / "rig.yaml").string() +
+      " --yaw 0 --pitch 10 --duration 9 --output http:" + std::to_string(port) + " --out " +
+      (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(read_text(dir / "out/station_summary.json"));
+  const auto& t = summary.at("tracking");
+  EXPECT_TRUE(t.at("enabled").get<bool>());
+  const int tracked = t.at("frames_tracked"), lost = t.at("frames_lost");
+  EXPECT_GT(tracked, 10) << summary.dump(2);
+  EXPECT_LE(lost, tracked / 10) << summary.dump(2);
+  EXPECT_EQ(t.at("state").get<std::string>().rfind("head tracked", 0), 0u) << summary.dump(2);
+  // The loop turns the head by up to 20 deg and nods it by up to 10: the last pose is in range.
+  EXPECT_LE(std::abs(t.at("last_pose_deg").at("yaw").get<double>()), 24.0);
+  EXPECT_LE(std::abs(t.at("last_pose_deg").at("pitch").get<double>()), 14.0);
 }
 
 }  // namespace

@@ -127,6 +127,51 @@ TEST(TurnedCamera, NonFiniteInputIsRefused) {
   EXPECT_THROW(turned_camera(base, 0, 0, Eigen::Vector3d(0, NAN, 0)), std::invalid_argument);
 }
 
+TEST(PosedCamera, TheIdentityPoseGivesTheCameraBack) {
+  const CameraModel base = camera_at(perspective_intrinsics(), 0.3, -0.1, 900.0);
+  const CameraModel same = posed_camera(base, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero());
+  expect_same_camera(same, base, 1e-15);
+}
+
+TEST(PosedCamera, SeesEachPointWhereTheCameraSeesItMovedByThePose) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.4, axis).toRotationMatrix();
+  const Eigen::Vector3d t(12, -7, 20);
+  CameraModel distorted = perspective_intrinsics();
+  distorted.distortion = {0.05, -0.01, 0.001, -0.002, 0.0};
+  const CameraModel cameras[3] = {ideal_rig(640, 480, 2.0).front,
+                                  camera_at(perspective_intrinsics(), 0.2, 0.1, 1000.0),
+                                  camera_at(distorted, -1.2, 0.0, 800.0)};
+  for (const CameraModel& c : cameras) {
+    const CameraModel posed = posed_camera(c, r, t);
+    for (int k = 0; k < 50; ++k) {
+      const Eigen::Vector3d x = 100 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+      const Eigen::Vector2d want = project(c, r * x + t);
+      EXPECT_LT((project(posed, x) - want).norm(), 1e-9 * (1 + want.norm())) << x.transpose();
+      EXPECT_NEAR(depth(posed, x), depth(c, r * x + t), 1e-9);
+    }
+  }
+}
+
+TEST(PosedCamera, RefusesWhatIsNotARotationAndNonFiniteInput) {
+  const CameraModel base = camera_at(perspective_intrinsics(), 0.0, 0.0, 1000.0);
+  const Eigen::Matrix3d r = Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector3d t(1, 2, 3);
+  EXPECT_NO_THROW(posed_camera(base, r, t));
+  EXPECT_THROW(posed_camera(base, 1.01 * r, t), std::invalid_argument);  // scaled
+  const Eigen::Matrix3d reflection = Eigen::Vector3d(-1, 1, 1).asDiagonal();
+  EXPECT_THROW(posed_camera(base, reflection * r, t), std::invalid_argument);
+  Eigen::Matrix3d nan = r;
+  nan(1, 2) = NAN;
+  EXPECT_THROW(posed_camera(base, nan, t), std::invalid_argument);
+  EXPECT_THROW(posed_camera(base, r, Eigen::Vector3d(0, INFINITY, 0)), std::invalid_argument);
+  CameraModel bad_pose = base;
+  bad_pose.cam_from_head.translation().x() = NAN;
+  EXPECT_THROW(posed_camera(bad_pose, r, t), std::invalid_argument);
+}
+
 TEST(CameraAt, StraightDownStaysAProperRotation) {
   const CameraModel c = camera_at(perspective_intrinsics(), 0.2, M_PI / 2, 800.0);
   const Eigen::Matrix3d r = c.cam_from_head.linear();

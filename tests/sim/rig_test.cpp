@@ -110,7 +110,7 @@ TEST(RigOptions, RejectsBadValues) {
   bad([](RigOptions& o) { o.px_per_mm = 0; });
   bad([](RigOptions& o) { o.focal_px = NAN; });
   bad([](RigOptions& o) { o.distance_mm = 50; });
-  bad([](RigOptions& o) { o.front_error.yaw_deg = 30; });
+  bad([](RigOptions& o) { o.front_error.yaw_deg = 46; });
   bad([](RigOptions& o) { o.side_error.offset_mm.x() = INFINITY; });
   bad([](RigOptions& o) { o.ambient = -0.1; });
   bad([](RigOptions& o) { o.light_direction = Eigen::Vector3d::Zero(); });

@@ -1,0 +1,127 @@
+#include "reconstruct/live_view.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "capture/camera_model.h"
+
+namespace orthoface::reconstruct {
+namespace {
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// The rig seeing the head moved by `pose` (both cameras are fixed to each other).
+capture::RigCalibration posed_rig(const capture::RigCalibration& rig, const HeadPose& pose) {
+  capture::RigCalibration out = rig;
+  out.front = capture::posed_camera(rig.front, pose.rotation, pose.translation_mm);
+  out.side = capture::posed_camera(rig.side, pose.rotation, pose.translation_mm);
+  return out;
+}
+
+void check_frame(const cv::Mat& frame, const capture::CameraModel& camera, const char* which) {
+  if (frame.empty() || frame.type() != CV_8UC3 || frame.cols != camera.width ||
+      frame.rows != camera.height)
+    throw std::invalid_argument(std::string("live view: the ") + which +
+                                " frame must be 8-bit BGR of " + std::to_string(camera.width) +
+                                "x" + std::to_string(camera.height));
+}
+
+}  // namespace
+
+LiveView::LiveView(const Reconstruction& fit, const LiveViewOptions& options) : options_(options) {
+  options_.tracker.check();
+  options_.hull.check();
+  load(fit);
+}
+
+LiveView::~LiveView() = default;
+
+void LiveView::refit(const Reconstruction& fit) { load(fit); }
+
+void LiveView::load(const Reconstruction& fit) {
+  if (fit.front.empty() || fit.side.empty())
+    throw std::invalid_argument("live view: the fit has no photos");
+  ViewModel model = view_model(fit, HeadExtent::Whole, options_.hull);
+  if (!synth_) {
+    // Texture from where the photos were taken; no side mask: the live frames move.
+    synth_ =
+        std::make_unique<render::ViewSynthesizer>(model.mesh, fit.photo_rig, fit.front, fit.side);
+  } else {
+    synth_->set_rig(fit.photo_rig);
+    synth_->set_mesh(model.mesh);
+    synth_->set_photos(fit.front, fit.side, render::ColourUpdate::Recompute);
+  }
+  synth_->set_face_vertices(model.face_vertices);
+  scene_ = view_scene(fit, *synth_);
+  model_ = std::move(model);
+  rig_ = fit.rig;
+  photo_rig_ = fit.photo_rig;
+  textured_ = false;
+  textured_pose_ = HeadPose{};
+  tracker_.reset();
+  tracker_error_ = "tracking off";
+  if (options_.tracking) {
+    try {
+      tracker_ = std::make_unique<HeadTracker>(model_.mesh, model_.face_vertices, photo_rig_.front,
+                                               fit.front, options_.tracker);
+      tracker_error_.clear();
+    } catch (const std::invalid_argument& e) {
+      tracker_error_ = std::string("tracking off: ") + e.what();
+    }
+  }
+}
+
+LiveFrame LiveView::update(const cv::Mat& front, const cv::Mat& side, double t_s, double yaw_deg,
+                           double pitch_deg, bool retexture) {
+  check_frame(front, photo_rig_.front, "front");
+  check_frame(side, photo_rig_.side, "side");
+  if (!std::isfinite(t_s) || !std::isfinite(yaw_deg) || !std::isfinite(pitch_deg))
+    throw std::invalid_argument("live view: time, yaw and pitch must be finite");
+  LiveFrame out;
+  double t = now_ms();
+  if (tracker_) {
+    out.track = tracker_->track(front, t_s);
+  } else {
+    out.track.reason = tracker_error_;
+  }
+  const HeadPose pose = out.track.pose;  // the fit's pose without a tracker
+  out.track_ms = now_ms() - t;
+
+  t = now_ms();
+  if (retexture || !textured_) {
+    // The live frames see the head where it is now: the source cameras follow it.
+    // Below a tenth of a degree and a tenth of a millimetre the rig is kept (a head at rest).
+    if (tracker_ && (pose.angle_to_deg(textured_pose_) > 0.1 ||
+                     (pose.translation_mm - textured_pose_.translation_mm).norm() > 0.1)) {
+      synth_->set_rig(posed_rig(photo_rig_, pose));
+      textured_pose_ = pose;
+    }
+    synth_->set_photos(front, side);
+    textured_ = true;
+  }
+  out.texture_ms = now_ms() - t;
+
+  t = now_ms();
+  render::SynthesisOptions image_only;
+  image_only.depth = false;  // the output shows the image; depth readback would cost a frame
+  // Floating textures cost about 50 ms of CPU per 640x480 view (render_bench, case 6): too much
+  // for a live frame on two cores; the offline render and batch use them.
+  image_only.float_textures = false;
+  // The source cameras follow the head every frame: classifying the triangles for the cheaper
+  // programs (render/triangle_classes.h) would be redone each time and costs more than it saves.
+  image_only.skip_unoccluded = !tracker_;
+  // The head where it is, turned by the correction about its neck where it is.
+  const capture::CameraModel turned =
+      capture::turned_camera(rig_.front, yaw_deg, pitch_deg, pose.apply(model_.pivot));
+  out.camera = capture::posed_camera(turned, pose.rotation, pose.translation_mm);
+  out.image = scene_.composite(synth_->render(out.camera, image_only).view, front);
+  out.draw_ms = now_ms() - t;
+  return out;
+}
+
+}  // namespace orthoface::reconstruct

@@ -1,0 +1,80 @@
+// The live view of the conferencing station: a fitted head, tracked in every live front frame,
+// re-textured from the live frames where the head really is, turned by the requested correction
+// and drawn into the live frame. The one code path of `orthoface station` and its benchmark.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include <opencv2/core.hpp>
+
+#include "reconstruct/head_tracker.h"
+#include "reconstruct/reconstruction.h"
+#include "render/new_view.h"
+
+namespace orthoface::reconstruct {
+
+struct LiveViewOptions {
+  bool tracking = true;  // false: the head is taken to stay where it was fitted
+  TrackerOptions tracker;
+  // The head hull, coarser than the offline views' (2 mm, 96): each of its triangles is drawn
+  // three times a frame (two source depth maps and the view).
+  model::HullOptions hull = [] {
+    model::HullOptions h;
+    h.slice_mm = 4;
+    h.angles = 64;
+    return h;
+  }();
+};
+
+// One output frame and what it cost.
+struct LiveFrame {
+  cv::Mat image;                // 8-bit BGR, the front camera's size
+  capture::CameraModel camera;  // the view's camera (head frame): where the model is drawn
+  TrackResult track;            // tracked = false with a reason while the head is lost
+  double track_ms = 0;          // tracking (0 without)
+  double texture_ms = 0;        // new source cameras and live photos
+  double draw_ms = 0;           // the view and the compositing
+};
+
+class LiveView {
+ public:
+  // From a fit of the station's pair (reconstruct::from_photos of the same cameras). Throws
+  // std::invalid_argument when the fit has no photos. When the tracker cannot start on the fit's
+  // front photo (too little texture on the face), the view is drawn untracked and every frame's
+  // track.reason says why.
+  LiveView(const Reconstruction& fit, const LiveViewOptions& options = {});
+  ~LiveView();
+  LiveView(const LiveView&) = delete;
+  LiveView& operator=(const LiveView&) = delete;
+
+  // A refit: new model, scene and tracker reference, the same render context.
+  void refit(const Reconstruction& fit);
+
+  // The live pair (the cameras' size, 8-bit BGR) taken at t_s seconds: the head tracked in
+  // `front`, re-textured from both frames when `retexture` (else the last frames' texture),
+  // turned by yaw / pitch degrees about its neck (capture::turned_camera) and composited into
+  // `front`. yaw / pitch 0 gives the live frame back where the head is. Throws
+  // std::invalid_argument for frames of the wrong size or type, or a non-finite yaw, pitch or
+  // time.
+  LiveFrame update(const cv::Mat& front, const cv::Mat& side, double t_s, double yaw_deg,
+                   double pitch_deg, bool retexture = true);
+
+  const ViewModel& model() const { return model_; }
+
+ private:
+  void load(const Reconstruction& fit);
+
+  LiveViewOptions options_;
+  capture::RigCalibration rig_, photo_rig_;
+  ViewModel model_;
+  ViewScene scene_;
+  std::unique_ptr<render::ViewSynthesizer> synth_;
+  std::unique_ptr<HeadTracker> tracker_;
+  std::string tracker_error_;  // why there is no tracker
+  bool textured_ = false;
+  HeadPose textured_pose_;  // the pose the source cameras were last set to      // live photos were
+                            // set since the fit
+};
+
+}  // namespace orthoface::reconstruct
