@@ -44,7 +44,8 @@ Command station_command() {
       "Live two-camera station: shows both cameras and the head, tracked in every live front "
       "frame, turned by --yaw / --pitch and re-textured from the live frames where it is, drawn "
       "into the live frame; takes a synchronized pair on a key press ('c') or "
-      "POST /capture, refits the model on 'r', POST /refit or every --refit-every frames. "
+      "POST /capture, refits the model on 'r', POST /refit or every --refit-every frames; in the "
+      "window 'a' / 'd' turn the view by 5 deg and 'w' / 's' tilt it. "
       "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
       "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
       "window|http:PORT|v4l2:/dev/videoN]",
@@ -263,6 +264,11 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     if (key == 'c' || key == ' ') take_pair();
     if (key == 'r') handle("refit");
     if (key == 'q' || key == 27) g_stop = 1;
+    // a / d turn the view 5 deg to the subject's right / left, w / s look from above / below.
+    if (key == 'a' || key == 'd')
+      s_.yaw_deg = std::clamp(s_.yaw_deg + (key == 'd' ? 5 : -5), -90.0, 90.0);
+    if (key == 'w' || key == 's')
+      s_.pitch_deg = std::clamp(s_.pitch_deg + (key == 'w' ? 5 : -5), -60.0, 60.0);
   }
 }
 

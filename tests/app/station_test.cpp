@@ -18,6 +18,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include <nlohmann/json.hpp>
 
@@ -103,6 +104,27 @@ std::string read_text(const fs::path& p) {
   std::stringstream s;
   s << f.rdbuf();
   return s.str();
+}
+
+// How long this build takes to fit sim subject 4's pair (the station's first fit), seconds:
+// the sanitizer build is many times slower than Release, so runs that must outlast the fit are
+// sized by it. Measured once.
+double sim_fit_seconds() {
+  static const double seconds = [] {
+    const auto dir = orthoface::testing::temp_dir("station_fit_time");
+    const std::string sim = (dir / "sim").string();
+    if (orthoface("simulate --subject 4 --out " + sim).code != 0) return 30.0;
+    const auto t0 = std::chrono::steady_clock::now();
+    orthoface("reconstruct --front " + sim + "/front.png --side " + sim + "/side.png --rig " + sim +
+              "/rig.yaml --out " + (dir / "fit").string());
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }();
+  return seconds;
+}
+
+// A station run long enough to fit the model and then draw it for `after_fit_s` seconds.
+std::string duration_after_fit(double after_fit_s) {
+  return std::to_string(static_cast<int>(std::ceil(4 + 1.5 * sim_fit_seconds() + after_fit_s)));
 }
 
 TEST(StationCommand, BadInputGivesOneErrorLine) {
@@ -342,8 +364,8 @@ TEST(StationCommand, TracksAMovingHeadReplayedFromFiles) {
   const CmdResult r = orthoface(
       "station --front 'file:" + clips + "/front_%03d.png?fps=30&loop' --side 'file:" + clips +
       "/side_%03d.png?fps=30&loop' --rig " + (dir / "sim" / "rig.yaml").string() +
-      " --yaw 0 --pitch 10 --duration 9 --output http:" + std::to_string(port) + " --out " +
-      (dir / "out").string());
+      " --yaw 0 --pitch 10 --duration " + duration_after_fit(5) +
+      " --output http:" + std::to_string(port) + " --out " + (dir / "out").string());
   ASSERT_EQ(r.code, 0) << r.output;
   const auto summary = nlohmann::json::parse(read_text(dir / "out/station_summary.json"));
   const auto& t = summary.at("tracking");
@@ -387,6 +409,83 @@ TEST(CaptureCommand, ProductionBinaryThroughFakeV4l2) {
   EXPECT_NE(lacking.output.find("error: camera /dev/video42: no mode of 800x600"),
             std::string::npos)
       << lacking.output;
+}
+
+// The virtual-webcam output (v4l2:) of the unchanged binary, written to the fake V4L2 device as
+// an output node (v4l2loopback-like); the frames it wrote are read back from the fake's file.
+TEST(StationCommand, V4l2OutputWritesFramesToTheFakeOutputDevice) {
+  const auto dir = orthoface::testing::temp_dir("station_fake_v4l2_output");
+  const fs::path written = dir / "written.frames";
+  const std::string env =
+      std::string("LD_PRELOAD=") + FAKE_V4L2_LIB +
+      " ORTHOFACE_FAKE_V4L2=/dev/video42 ORTHOFACE_FAKE_V4L2_OUTPUT=/dev/video50=" +
+      written.string() + " ORTHOFACE_FAKE_V4L2_CTL=" + dir.string();
+  // 320x240 at 15 fps until the model has been fitted and drawn for a few seconds (some 2.3 MB
+  // of frames a second).
+  const std::string cams =
+      "station --front sim:4/front --side sim:4/side --size 320x240 --fps 15 --yaw 20 "
+      "--duration " +
+      duration_after_fit(4) + " ";
+  const CmdResult r =
+      orthoface(cams + "--output v4l2:/dev/video50 --out " + (dir / "out").string(), env);
+  ASSERT_EQ(r.code, 0) << r.output;
+
+  // The fake's file: per frame "OFW1", int32 width, height, bytes, then the YUYV bytes.
+  std::ifstream in(written, std::ios::binary);
+  ASSERT_TRUE(in) << "no frames were written to the fake output device";
+  int frames = 0;
+  std::vector<unsigned char> last;
+  for (;;) {
+    char magic[4];
+    int32_t dims[3];
+    if (!in.read(magic, 4)) break;
+    ASSERT_EQ(std::string(magic, 4), "OFW1") << "frame " << frames;
+    ASSERT_TRUE(in.read(reinterpret_cast<char*>(dims), sizeof(dims))) << "frame " << frames;
+    ASSERT_EQ(dims[0], 320) << "frame " << frames;
+    ASSERT_EQ(dims[1], 240) << "frame " << frames;
+    ASSERT_EQ(dims[2], 320 * 240 * 2) << "frame " << frames;
+    last.resize(size_t(dims[2]));
+    ASSERT_TRUE(in.read(reinterpret_cast<char*>(last.data()), dims[2])) << "frame " << frames;
+    ++frames;
+  }
+  in.close();
+  fs::remove(written);
+  EXPECT_GE(frames, 30);
+  ASSERT_GT(frames, 0);
+  const auto summary = nlohmann::json::parse(read_text(dir / "out/station_summary.json"));
+  EXPECT_GE(summary.at("frames_out").get<int>(), frames) << summary.dump(2);
+
+  // The last frame shows the rendered head over the sim's grey background.
+  cv::Mat bgr;
+  cv::cvtColor(cv::Mat(240, 320, CV_8UC2, last.data()), bgr, cv::COLOR_YUV2BGR_YUYV);
+  cv::imwrite((dir / "last_written.png").string(), bgr);
+  const cv::Scalar centre = cv::mean(bgr(cv::Rect(135, 95, 50, 50)));
+  const cv::Scalar corner = cv::mean(bgr(cv::Rect(0, 0, 20, 20)));
+  EXPECT_GT(std::abs(centre[0] - corner[0]) + std::abs(centre[1] - corner[1]) +
+                std::abs(centre[2] - corner[2]),
+            30.0)
+      << "centre " << centre << " corner " << corner;
+  cv::Scalar mean, sd;
+  cv::meanStdDev(bgr, mean, sd);
+  EXPECT_GT(sd[0] + sd[1] + sd[2], 15.0);
+
+  // An output node that refuses the format, and a capture-only node: one error line each.
+  std::ofstream(dir / "busy-video50") << "";
+  const CmdResult refused =
+      orthoface(cams + "--output v4l2:/dev/video50 --out " + (dir / "out2").string(), env);
+  EXPECT_EQ(refused.code, 1) << refused.output;
+  const CmdResult capture_node =
+      orthoface(cams + "--output v4l2:/dev/video42 --out " + (dir / "out3").string(), env);
+  EXPECT_EQ(capture_node.code, 1) << capture_node.output;
+  for (const auto& [res, node] :
+       {std::pair{&refused, "/dev/video50"}, std::pair{&capture_node, "/dev/video42"}}) {
+    int error_lines = 0;
+    std::istringstream lines(res->output);
+    for (std::string line; std::getline(lines, line);) error_lines += line.rfind("error:", 0) == 0;
+    EXPECT_EQ(error_lines, 1) << res->output;
+    EXPECT_NE(res->output.find(std::string("error: v4l2 output ") + node), std::string::npos)
+        << res->output;
+  }
 }
 
 }  // namespace

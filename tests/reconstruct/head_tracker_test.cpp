@@ -141,6 +141,37 @@ TEST_F(HeadTracking, FollowsATurnAndANodWithinTwoDegrees) {
   EXPECT_LE(worst, 5.0);
 }
 
+TEST(HeadTrackingPerspective, FollowsATurnThroughAPinholeCamera) {
+  // The perspective sim rig (a 1600 px focal length at 1 m): the same solve through
+  // capture::project's pinhole model.
+  const sim::Head head = sim::make_head(2);
+  sim::RigOptions rest;
+  rest.kind = sim::RigKind::Perspective;
+  render::Renderer renderer;
+  const sim::Capture c0 = sim::simulate_capture(head, rest, renderer);
+  ReconstructOptions o;
+  o.rig = c0.nominal_rig;
+  const Reconstruction rec = from_photos(c0.front, c0.side, o);
+  const ViewModel model = view_model(rec, HeadExtent::Whole);
+  HeadTracker tracker(model.mesh, model.face_vertices, rec.photo_rig.front, rec.front);
+  std::vector<double> errors;
+  for (int k = 0; k <= 16; ++k) {
+    sim::RigOptions turned = rest;
+    turned.front_error.yaw_deg = 20 * std::sin(kPi * k / 16);
+    turned.front_error.pitch_deg = 8 * std::sin(2 * kPi * k / 16);
+    const sim::Capture c = sim::simulate_capture(head, turned, renderer);
+    HeadPose truth;
+    const Eigen::Matrix3d rn = c.nominal_rig.front.cam_from_head.linear();
+    truth.rotation = rn.transpose() * c.true_rig.front.cam_from_head.linear();
+    const TrackResult r = tracker.track(c.front, k / 30.0);
+    ASSERT_TRUE(r.tracked) << "frame " << k << ": " << r.reason;
+    errors.push_back(r.raw.angle_to_deg(truth));
+  }
+  std::sort(errors.begin(), errors.end());
+  EXPECT_LE(errors[errors.size() / 2], 2.0);
+  EXPECT_LE(errors.back(), 5.0);
+}
+
 TEST_F(HeadTracking, SaysWhenLostAndRecovers) {
   HeadTracker tracker(model_->mesh, model_->face_vertices, rec_->rig.front, rec_->front);
   HeadPose truth;

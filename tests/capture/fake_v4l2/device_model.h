@@ -44,10 +44,9 @@ inline std::string served_env() {
   return e ? e : "";
 }
 
-// path -> frame file ("" = test pattern).
-inline std::map<std::string, std::string> served_paths() {
+// "path[=file][,path[=file]]" -> path -> file.
+inline std::map<std::string, std::string> parse_paths(const std::string& s) {
   std::map<std::string, std::string> out;
-  std::string s = served_env();
   size_t start = 0;
   while (start < s.size()) {
     size_t comma = s.find(',', start);
@@ -59,6 +58,15 @@ inline std::map<std::string, std::string> served_paths() {
     start = comma + 1;
   }
   return out;
+}
+
+// path -> frame file ("" = test pattern).
+inline std::map<std::string, std::string> served_paths() { return parse_paths(served_env()); }
+
+// Output devices: path -> file the written frames are appended to ("" = discarded).
+inline std::map<std::string, std::string> output_paths() {
+  const char* e = std::getenv("ORTHOFACE_FAKE_V4L2_OUTPUT");
+  return parse_paths(e ? e : "");
 }
 
 inline std::string ctl_file(const std::string& path, const char* what) {
@@ -83,8 +91,13 @@ inline unsigned kernel_version() {
 
 class Device {
  public:
-  Device(std::string path, std::string frame_file)
-      : path_(std::move(path)), source_(std::move(frame_file)) {
+  // An output device (output_file set) takes frames instead of producing them.
+  Device(std::string path, std::string frame_file, bool output = false,
+         std::string output_file = "")
+      : path_(std::move(path)),
+        source_(std::move(frame_file)),
+        output_(output),
+        output_file_(std::move(output_file)) {
     set_format(640, 480, V4L2_PIX_FMT_YUYV);
   }
   ~Device() {
@@ -100,6 +113,8 @@ class Device {
     return gone_;
   }
   int ioctl(int fd, unsigned long request, void* arg);
+  // write() I/O of an output device: one whole frame (sizeimage bytes) per call.
+  ssize_t write(int fd, const void* buf, size_t count);
   void* mmap(void* addr, size_t length, int prot, int flags, off_t offset);
   short poll_events(int fd, short requested);
   void release(int fd) {
@@ -164,6 +179,26 @@ class Device {
     f.sizeimage = f.width * f.height * 2;
     f.colorspace = V4L2_COLORSPACE_SRGB;
   }
+  // The one buffer type of this device's queue.
+  bool valid_type(unsigned type) const {
+    return type == (output_ ? V4L2_BUF_TYPE_VIDEO_OUTPUT : V4L2_BUF_TYPE_VIDEO_CAPTURE);
+  }
+  // Output (v4l2loopback-like): YUYV at any even size up to 8192x8192.
+  static void adjust_output(v4l2_pix_format& f) {
+    const unsigned w = std::clamp(f.width, 2u, 8192u) & ~1u, h = std::clamp(f.height, 2u, 8192u);
+    f = {};
+    f.width = w;
+    f.height = h;
+    f.pixelformat = V4L2_PIX_FMT_YUYV;
+    f.field = V4L2_FIELD_NONE;
+    f.bytesperline = w * 2;
+    f.sizeimage = w * h * 2;
+    f.colorspace = V4L2_COLORSPACE_SRGB;
+  }
+  // Appends one frame to output_file_ (header "OFW1", int32 width, height, bytes; the bytes).
+  void consume_locked(const void* data, size_t bytes);
+  // Output streaming: the queued buffers are frames, taken at once and handed back as done.
+  void consume_queued_locked();
   int fmt_ioctl(int fd, unsigned long request, v4l2_format* f);
   int reqbufs(int fd, v4l2_requestbuffers* r);
   void fill_buf(unsigned index, v4l2_buffer* b) const;
@@ -181,6 +216,8 @@ class Device {
 
   std::string path_;
   FrameSource source_;
+  bool output_ = false;
+  std::string output_file_;
   std::mutex m_;
   std::condition_variable cv_;
   v4l2_pix_format fmt_{};

@@ -48,7 +48,9 @@ std::shared_ptr<Device> device_of(int fd) { return file_of(fd).device; }
 
 }  // namespace
 
-bool is_served(const char* path) { return path && served_paths().count(path) > 0; }
+bool is_served(const char* path) {
+  return path && (served_paths().count(path) > 0 || output_paths().count(path) > 0);
+}
 
 bool is_plugged(const char* path) { return !file_exists(ctl_file(path, "unplug")); }
 
@@ -59,12 +61,16 @@ const char* path_of(int fd) {
 
 int open_device(const char* path, int flags) {
   const auto paths = served_paths();
+  const auto outputs = output_paths();
   auto p = paths.find(path);
-  if (p == paths.end()) return errno = ENOENT, -1;
+  auto o = outputs.find(path);
+  if (p == paths.end() && o == outputs.end()) return errno = ENOENT, -1;
   if (file_exists(ctl_file(path, "unplug"))) return errno = ENOENT, -1;
   std::lock_guard<std::mutex> lock(g_mutex);
   auto& dev = devices()[path];
-  if (!dev || dev->gone()) dev = std::make_shared<Device>(path, p->second);
+  if (!dev || dev->gone())
+    dev = o != outputs.end() ? std::make_shared<Device>(path, "", true, o->second)
+                             : std::make_shared<Device>(path, p->second);
   const int fd = eventfd(0, EFD_CLOEXEC | ((flags & O_NONBLOCK) ? EFD_NONBLOCK : 0));
   if (fd < 0) return -1;
   fds()[fd] = {dev, fd};
@@ -85,6 +91,13 @@ int device_ioctl(int fd, unsigned long request, void* arg) {
   if (!f.device) return errno = EBADF, -1;
   if (f.device->gone()) return errno = ENODEV, -1;
   return f.device->ioctl(f.file, request, arg);
+}
+
+ssize_t device_write(int fd, const void* buf, size_t count) {
+  const OpenFile f = file_of(fd);
+  if (!f.device) return errno = EBADF, -1;
+  if (f.device->gone()) return errno = ENODEV, -1;
+  return f.device->write(f.file, buf, count);
 }
 
 void* device_mmap(void* addr, size_t length, int prot, int flags, int fd, off_t offset) {

@@ -12,6 +12,14 @@
 //     DIR/unplug-videoN  present: the device is gone (open -> ENOENT, open fds -> ENODEV);
 //                        removed: it can be opened again (a new device instance)
 //     DIR/eio-videoN     present: the next DQBUF fails with EIO (the file is then removed)
+//     DIR/busy-videoN    present: S_FMT fails with EBUSY (the format is held elsewhere)
+//   ORTHOFACE_FAKE_V4L2_OUTPUT=/dev/video50[=written.frames][,...]
+//     video OUTPUT devices served, as v4l2loopback with exclusive_caps=1 shows them to a writer:
+//     QUERYCAP says VIDEO_OUTPUT | STREAMING | READWRITE; the one format is YUYV at any even
+//     size (S_FMT fills bytesperline and sizeimage; a capture-type format is EINVAL). Each
+//     write() of exactly sizeimage bytes, and each QBUF while streaming, is a frame: appended to
+//     the named file as a 16-byte header ("OFW1", int32 width, int32 height, int32 byte count,
+//     host order) followed by the YUYV bytes. A write() of another size is EINVAL.
 
 #include <linux/videodev2.h>
 #include <poll.h>
@@ -37,6 +45,8 @@ bool is_fake_fd(int fd);
 void dup_device(int fd, int new_fd);
 // ioctl on a fake fd; returns 0 or -1 with errno, exactly as the kernel would.
 int device_ioctl(int fd, unsigned long request, void* arg);
+// write() on a fake fd: a frame for an output device, EINVAL for a capture device.
+ssize_t device_write(int fd, const void* buf, size_t count);
 // mmap of a buffer by its QUERYBUF offset; MAP_FAILED with errno on error.
 void* device_mmap(void* addr, size_t length, int prot, int flags, int fd, off_t offset);
 // poll events of a fake fd (POLLIN|POLLRDNORM when a buffer is done, POLLERR when not

@@ -1,9 +1,11 @@
 // The ioctls of the fake V4L2 device, written after the V4L2 specification and videobuf2.
 #include <sys/eventfd.h>
 #include <sys/mman.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 #include <cmath>
 
+#include <cstdint>
 #include <cstring>
 
 #include "device_model.h"
@@ -11,7 +13,6 @@
 namespace fake_v4l2 {
 namespace {
 
-bool valid_type(unsigned type) { return type == V4L2_BUF_TYPE_VIDEO_CAPTURE; }
 bool known_size(unsigned w, unsigned h) {
   for (auto& s : kSizes)
     if (unsigned(s[0]) == w && unsigned(s[1]) == h) return true;
@@ -25,20 +26,23 @@ double now_s() {
   return ts.tv_sec + 1e-9 * ts.tv_nsec;
 }
 
-int querycap(v4l2_capability* c) {
+int querycap(v4l2_capability* c, bool output) {
   std::memset(c, 0, sizeof(*c));
   std::snprintf(reinterpret_cast<char*>(c->driver), sizeof(c->driver), "orthoface_fake");
-  std::snprintf(reinterpret_cast<char*>(c->card), sizeof(c->card), "orthoface fake camera");
+  std::snprintf(reinterpret_cast<char*>(c->card), sizeof(c->card), "%s",
+                output ? "orthoface fake output" : "orthoface fake camera");
   std::snprintf(reinterpret_cast<char*>(c->bus_info), sizeof(c->bus_info),
                 "platform:orthoface-fake");
   c->version = kernel_version();
-  c->device_caps = V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING | V4L2_CAP_EXT_PIX_FORMAT;
+  c->device_caps = output ? V4L2_CAP_VIDEO_OUTPUT | V4L2_CAP_STREAMING | V4L2_CAP_READWRITE |
+                                V4L2_CAP_EXT_PIX_FORMAT
+                          : V4L2_CAP_VIDEO_CAPTURE | V4L2_CAP_STREAMING | V4L2_CAP_EXT_PIX_FORMAT;
   c->capabilities = c->device_caps | V4L2_CAP_DEVICE_CAPS;
   return 0;
 }
 
-int enum_fmt(v4l2_fmtdesc* d) {
-  if (!valid_type(d->type) || d->index >= 2) return fail(EINVAL);
+int enum_fmt(v4l2_fmtdesc* d, bool type_ok, bool output) {
+  if (!type_ok || d->index >= (output ? 1u : 2u)) return fail(EINVAL);
   const unsigned index = d->index, type = d->type;
   std::memset(d, 0, sizeof(*d));
   d->index = index;
@@ -50,8 +54,9 @@ int enum_fmt(v4l2_fmtdesc* d) {
   return 0;
 }
 
-int enum_framesizes(v4l2_frmsizeenum* s) {
+int enum_framesizes(v4l2_frmsizeenum* s, bool output) {
   if (!known_format(s->pixel_format) || s->index >= 3) return fail(EINVAL);
+  if (output && s->pixel_format != V4L2_PIX_FMT_YUYV) return fail(EINVAL);
   const unsigned index = s->index, pix = s->pixel_format;
   std::memset(s, 0, sizeof(*s));
   s->index = index;
@@ -142,17 +147,19 @@ int Device::ioctl(int fd, unsigned long request, void* arg) {
       return 0;
     }
     case VIDIOC_QUERYCAP:
-      return querycap(static_cast<v4l2_capability*>(arg));
-    case VIDIOC_ENUM_FMT:
-      return enum_fmt(static_cast<v4l2_fmtdesc*>(arg));
+      return querycap(static_cast<v4l2_capability*>(arg), output_);
+    case VIDIOC_ENUM_FMT: {
+      auto* d = static_cast<v4l2_fmtdesc*>(arg);
+      return enum_fmt(d, valid_type(d->type), output_);
+    }
     case VIDIOC_ENUM_FRAMESIZES:
-      return enum_framesizes(static_cast<v4l2_frmsizeenum*>(arg));
+      return enum_framesizes(static_cast<v4l2_frmsizeenum*>(arg), output_);
     case VIDIOC_ENUM_FRAMEINTERVALS:
       return enum_frameintervals(static_cast<v4l2_frmivalenum*>(arg));
     case VIDIOC_ENUMINPUT:
     case VIDIOC_G_INPUT:
     case VIDIOC_S_INPUT:
-      return inputs(request, arg);
+      return output_ ? fail(ENOTTY) : inputs(request, arg);
     case VIDIOC_G_FMT:
     case VIDIOC_S_FMT:
     case VIDIOC_TRY_FMT:
@@ -186,10 +193,14 @@ int Device::fmt_ioctl(int fd, unsigned long request, v4l2_format* f) {
     return 0;
   }
   v4l2_pix_format p = f->fmt.pix;
-  adjust(p);
+  if (output_)
+    adjust_output(p);
+  else
+    adjust(p);
   std::memset(&f->fmt, 0, sizeof(f->fmt));
   f->fmt.pix = p;
   if (request == VIDIOC_TRY_FMT) return 0;
+  if (file_exists(ctl_file(path_, "busy"))) return fail(EBUSY);
   if (!buffers_.empty() && (owner_ != fd || streaming_ || p.pixelformat != fmt_.pixelformat ||
                             p.width != fmt_.width || p.height != fmt_.height))
     return fail(EBUSY);  // vb2: format is fixed while buffers are allocated
@@ -275,9 +286,15 @@ int Device::qbuf(int fd, v4l2_buffer* b) {
   if (owner_ != fd) return fail(EBUSY);
   Buffer& buf = buffers_[b->index];
   if (buf.state != Buffer::Dequeued) return fail(EINVAL);
+  if (output_) {  // the application filled it: bytesused 0 means the whole image
+    const unsigned used = b->bytesused ? b->bytesused : fmt_.sizeimage;
+    if (used != fmt_.sizeimage) return fail(EINVAL);
+    buf.bytesused = used;
+  }
   buf.state = Buffer::Queued;
   buf.flags = 0;
   queued_.push_back(b->index);
+  if (output_ && streaming_) consume_queued_locked();
   fill_buf(b->index, b);
   cv_.notify_all();
   return 0;
@@ -312,6 +329,10 @@ int Device::streamon(int fd, const int* type) {
   if (streaming_) return 0;
   streaming_ = true;
   sequence_ = 0;
+  if (output_) {  // no producer: queued frames go out now, later ones as they are queued
+    consume_queued_locked();
+    return 0;
+  }
   run_ = true;
   producer_ = std::thread([this] { produce(); });
   return 0;
@@ -359,10 +380,55 @@ void* Device::mmap(void* addr, size_t length, int prot, int flags, off_t offset)
 
 short Device::poll_events(int fd, short requested) {
   std::lock_guard<std::mutex> lock(m_);
+  if (output_ && owner_ < 0) return short(requested & (POLLOUT | POLLWRNORM));  // write() I/O
   if (owner_ != fd || !streaming_) return POLLERR;
-  if (!done_.empty()) return short(requested & (POLLIN | POLLRDNORM));
+  if (!done_.empty())
+    return short(requested & (output_ ? POLLOUT | POLLWRNORM : POLLIN | POLLRDNORM));
   if (queued_.empty()) return POLLERR;  // vb2: nothing queued, nothing will come
   return 0;
+}
+
+ssize_t Device::write(int /*fd*/, const void* buf, size_t count) {
+  std::lock_guard<std::mutex> lock(m_);
+  if (!output_) return fail(EINVAL);    // a capture node offers no write() I/O
+  if (owner_ >= 0) return fail(EBUSY);  // vb2: no file I/O while streaming buffers exist
+  if (!buf) return fail(EFAULT);
+  if (count != fmt_.sizeimage) return fail(EINVAL);  // one whole frame per write
+  consume_locked(buf, count);
+  ++sequence_;
+  return ssize_t(count);
+}
+
+// Raw system calls: the fake's own open/write/close wrappers take the registry lock.
+void Device::consume_locked(const void* data, size_t bytes) {
+  if (output_file_.empty()) return;
+  const int fd = int(::syscall(SYS_openat, AT_FDCWD, output_file_.c_str(),
+                               O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644));
+  if (fd < 0) return;
+  const int32_t dims[3] = {int32_t(fmt_.width), int32_t(fmt_.height), int32_t(bytes)};
+  std::string frame = "OFW1";
+  frame.append(reinterpret_cast<const char*>(dims), sizeof(dims));
+  frame.append(static_cast<const char*>(data), bytes);
+  for (size_t done = 0; done < frame.size();) {  // O_APPEND: one write, one frame
+    const long k = ::syscall(SYS_write, fd, frame.data() + done, frame.size() - done);
+    if (k <= 0) break;
+    done += size_t(k);
+  }
+  ::syscall(SYS_close, fd);
+}
+
+void Device::consume_queued_locked() {
+  while (!queued_.empty()) {
+    const unsigned index = queued_.front();
+    queued_.pop_front();
+    Buffer& b = buffers_[index];
+    consume_locked(b.data, b.bytesused);
+    b.sequence = sequence_++;
+    b.state = Buffer::Done;
+    done_.push_back(index);
+  }
+  signal_locked();
+  cv_.notify_all();
 }
 
 void Device::signal_locked() {
