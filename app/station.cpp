@@ -153,6 +153,7 @@ class Station {
   std::vector<double> retexture_ms_, draw_ms_, track_ms_;
   int frames_out_ = 0, fits_ = 0, frames_tracked_ = 0, frames_lost_ = 0;
   reconstruct::TrackResult track_;  // the last frame's
+  bool was_tracked_ = true;         // the last frame's tracked state (true before the first)
 };
 
 Station::Station(const Settings& s) : s_(s) {
@@ -231,10 +232,12 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     draw_ms_.push_back(lf.draw_ms);
     if (s_.tracking) {
       track_ms_.push_back(lf.track_ms);
-      if (lf.track.tracked != (track_.tracked || frames_tracked_ + frames_lost_ == 0) &&
-          !(lf.track.tracked && frames_tracked_ + frames_lost_ == 0))
+      // An event when the tracked state changes; was_tracked_ starts true, so a first frame
+      // that is lost is a loss and a first frame that is tracked is no recovery.
+      if (lf.track.tracked != was_tracked_)
         events_.push_back(lf.track.tracked ? "head tracking recovered"
                                            : "head tracking lost: " + lf.track.reason);
+      was_tracked_ = lf.track.tracked;
       ++(lf.track.tracked ? frames_tracked_ : frames_lost_);
     }
     track_ = lf.track;

@@ -15,7 +15,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "io/atomic_file.h"
-#include "sim/rig.h"
+#include "sim/sim_camera.h"
 
 namespace orthoface::app {
 
@@ -53,11 +53,11 @@ std::optional<capture::RigCalibration> station_rig(const std::string& rig_file,
                                                    int height) {
   if (!rig_file.empty()) return capture::read_rig(rig_file);
   if (front_id.rfind("sim:", 0) == 0 && side_id.rfind("sim:", 0) == 0) {
-    sim::RigOptions o;  // as sim/sim_camera.cpp renders it
-    o.width = width;
-    o.height = height;
-    o.px_per_mm *= width / 640.0;
-    return sim::nominal_rig(o);
+    // The sim cameras of a frame at rest (sequence 0: no head turn, whatever the motion): the
+    // ideal rig scaled to the mode's size, as sim/sim_camera.cpp renders it.
+    capture::RigCalibration rig = sim::sim_camera_rig(sim::SimCameraOptions{}, width, height, 0);
+    rig.source = "sim";  // the nominal rig, not one frame's truth
+    return rig;
   }
   return std::nullopt;
 }

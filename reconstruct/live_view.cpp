@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "capture/camera_model.h"
+#include "model/symmetry.h"
 
 namespace orthoface::reconstruct {
 namespace {
@@ -48,13 +49,15 @@ void LiveView::load(const Reconstruction& fit) {
     throw std::invalid_argument("live view: the fit has no photos");
   ViewModel model = view_model(fit, HeadExtent::Whole, options_.hull);
   if (!synth_) {
-    // Texture from where the photos were taken; no side mask: the live frames move.
-    synth_ =
-        std::make_unique<render::ViewSynthesizer>(model.mesh, fit.photo_rig, fit.front, fit.side);
-  } else {
+    // As every view of the fit is drawn (texture from where the photos were taken, the mirror
+    // plane for the side never photographed), but no side mask: the live frames move.
+    synth_ = view_synthesizer(fit, model);
+    synth_->set_photo_masks({}, {});
+  } else {  // the same render context, reloaded as view_synthesizer loads a new one
     synth_->set_rig(fit.photo_rig);
     synth_->set_mesh(model.mesh);
     synth_->set_photos(fit.front, fit.side, render::ColourUpdate::Recompute);
+    synth_->set_mirror_plane(model::mid_sagittal_plane(fit.landmarks));
   }
   synth_->set_face_vertices(model.face_vertices);
   scene_ = view_scene(fit, *synth_);

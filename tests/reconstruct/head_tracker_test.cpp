@@ -10,10 +10,12 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include "capture/camera_model.h"
 #include "reconstruct/head_tracker.h"
 #include "reconstruct/live_view.h"
 #include "reconstruct/reconstruction.h"
 #include "render/image_metrics.h"
+#include "render/new_view.h"
 #include "render/renderer.h"
 #include "sim/head.h"
 #include "sim/rig.h"
@@ -253,6 +255,34 @@ TEST_F(HeadTracking, LiveViewWithoutCorrectionGivesTheLiveFrameBack) {
   const sim::Capture rest = sim::simulate_capture(*head_, sim::RigOptions{}, *renderer_);
   const LiveFrame turned = live.update(rest.front, rest.side, 1.0, 0, 10);
   EXPECT_LT(render::psnr(rest.front, turned.image, rest.front_mask), 25.0);
+}
+
+// Turned toward the side the side camera never saw, the live view draws what every view of the
+// fit draws there (view_synthesizer: the mirror view through the landmarks' mid-sagittal plane),
+// not the front photo stretched over that side.
+TEST_F(HeadTracking, LiveViewTurnedToTheUnseenSideIsTheFitsMirrorView) {
+  LiveView live(*rec_);
+  const auto synth = view_synthesizer(*rec_, live.model());
+  ASSERT_TRUE(synth->mirror_plane());
+  render::SynthesisOptions o;
+  o.float_textures = false;
+  o.depth = false;
+  const sim::Capture rest = sim::simulate_capture(*head_, sim::RigOptions{}, *renderer_);
+  int mirrored = 0;
+  for (const double yaw : {-30.0, 30.0}) {
+    const capture::CameraModel camera = live.model().camera(rec_->rig.front, yaw, 0);
+    if (!synth->mirrors_view(camera, o)) continue;
+    ++mirrored;
+    const LiveFrame f = live.update(rest.front, rest.side, 0.0, yaw, 0);
+    ASSERT_TRUE(f.track.tracked) << f.track.reason;
+    const render::RenderResult want = synth->render(camera, o).view;
+    // Inside the view's head, away from its outline and from the neck's fade into the frame.
+    cv::Mat inner;
+    cv::erode(want.mask, inner, cv::Mat(), {-1, -1}, 6);
+    inner.rowRange(inner.rows * 2 / 3, inner.rows).setTo(0);
+    EXPECT_GE(render::psnr(want.image, f.image, inner), 30.0) << "yaw " << yaw;
+  }
+  EXPECT_EQ(mirrored, 1);
 }
 
 TEST_F(HeadTracking, LiveViewUntrackedSaysSoAndRefusesBadFrames) {
