@@ -1,9 +1,12 @@
 // Photos as 8-bit BGR whatever they were stored as, and unreadable files.
 #include "vision/image_prep.h"
 
+#include <fstream>
 #include <stdexcept>
+#include <string>
 
 #include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
 
 #include "tests/common/test_data.h"
 
@@ -37,4 +40,30 @@ TEST(ImagePrep, BadInputFilesGiveClearErrors) {
   EXPECT_EQ(ov::read_image(dir + "/image_gray16.png").type(), CV_8UC3);
   EXPECT_EQ(ov::read_image(dir + "/image_rgba.png").type(), CV_8UC3);
   EXPECT_THROW(ov::read_image(dir + "/no_such_file.png"), std::runtime_error);
+}
+
+TEST(ImagePrep, OnlyPhotoFormatsReachTheDecoders) {
+  const auto dir = orthoface::testing::temp_dir("image_prep_formats");
+  // 128 bytes then "DICM": a DICOM file, cut short. OpenCV hands it to GDCM, which aborted.
+  std::string dicom(128, '\0');
+  dicom.replace(0, 5, "G\r\n.\x1a", 5);
+  dicom += std::string("DICM\0", 5);
+  const std::string bad = (dir / "scan.png").string();
+  std::ofstream(bad, std::ios::binary) << dicom;
+  try {
+    ov::read_image(bad);
+    ADD_FAILURE() << "a DICOM file was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("scan.png"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("not a PNG, JPEG"), std::string::npos) << e.what();
+  }
+  // Every format the tools accept still reads.
+  const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(30, 120, 200));
+  for (const char* ext : {".png", ".jpg", ".bmp", ".tif", ".webp", ".ppm", ".pgm"}) {
+    const std::string path = (dir / (std::string("photo") + ext)).string();
+    const bool grey = std::string(ext) == ".pgm";
+    ASSERT_TRUE(cv::imwrite(path, grey ? cv::Mat(photo.size(), CV_8U, cv::Scalar(90)) : photo))
+        << ext;
+    EXPECT_EQ(ov::read_image(path).size(), photo.size()) << ext;
+  }
 }
