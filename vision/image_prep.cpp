@@ -57,17 +57,19 @@ void check_not_truncated(const std::string& path) {
 // GDCM abort the process).
 void check_photo_format(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
-  std::string h(12, '\0');
-  f.read(h.data(), 12);
+  std::string h(132, '\0');
+  f.read(h.data(), 132);
   const auto u = [&](int i) { return uchar(h[size_t(i)]); };
   const bool jpeg = u(0) == 0xFF && u(1) == 0xD8;
-  const bool png = u(0) == 0x89 && h.compare(1, 3, "PNG") == 0;
+  const bool png = h.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
   const bool bmp = h.compare(0, 2, "BM") == 0;
   const bool tiff = h.compare(0, 4, std::string("II*\0", 4)) == 0 ||
                     h.compare(0, 4, std::string("MM\0*", 4)) == 0;
   const bool webp = h.compare(0, 4, "RIFF") == 0 && h.compare(8, 4, "WEBP") == 0;
   const bool pnm = h[0] == 'P' && h[1] >= '1' && h[1] <= '6';
-  if (!(jpeg || png || bmp || tiff || webp || pnm))
+  // OpenCV tries the DICOM decoder before any whose signature does not match exactly.
+  const bool dicom = h.compare(128, 4, "DICM") == 0;
+  if (!(jpeg || png || bmp || tiff || webp || pnm) || dicom)
     throw std::runtime_error("image '" + path +
                              "': not a PNG, JPEG, BMP, TIFF, WebP or PNM/PGM/PPM file");
 }

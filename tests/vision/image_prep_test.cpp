@@ -49,13 +49,19 @@ TEST(ImagePrep, OnlyPhotoFormatsReachTheDecoders) {
   dicom.replace(0, 5, "G\r\n.\x1a", 5);
   dicom += std::string("DICM\0", 5);
   const std::string bad = (dir / "scan.png").string();
-  std::ofstream(bad, std::ios::binary) << dicom;
-  try {
-    ov::read_image(bad);
-    ADD_FAILURE() << "a DICOM file was accepted";
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find("scan.png"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("not a PNG, JPEG"), std::string::npos) << e.what();
+  // The same behind a PNG signature that is one byte wrong, and behind a correct one.
+  std::string near_png = dicom, png = dicom;
+  near_png.replace(0, 8, "\x89PNG\x05\n\x1a\n", 8);
+  png.replace(0, 8, "\x89PNG\r\n\x1a\n", 8);
+  for (const std::string& bytes : {dicom, near_png, png}) {
+    std::ofstream(bad, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      ov::read_image(bad);
+      ADD_FAILURE() << "a DICOM file was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("scan.png"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not a PNG, JPEG"), std::string::npos) << e.what();
+    }
   }
   // Every format the tools accept still reads.
   const cv::Mat photo(48, 64, CV_8UC3, cv::Scalar(30, 120, 200));
