@@ -14,6 +14,7 @@
 #include "app/station_output.h"
 #include "capture/calibration.h"
 #include "capture/pair_capture.h"
+#include "io/image_file.h"
 #include "sim/sim_camera.h"
 
 namespace orthoface::app {
@@ -54,7 +55,7 @@ std::vector<cv::Mat> read_folder(const std::string& dir, const std::string& flag
   std::sort(names.begin(), names.end());
   std::vector<cv::Mat> images;
   for (const std::string& n : names) {
-    images.push_back(cv::imread(n, cv::IMREAD_COLOR));
+    images.push_back(io::imread_accepted(n, cv::IMREAD_COLOR));
     if (images.back().empty()) throw std::runtime_error(flag + " " + n + ": not a readable image");
   }
   return images;

@@ -14,6 +14,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/image_file.h"
+
 namespace orthoface::capture {
 namespace {
 
@@ -172,7 +174,8 @@ cv::Mat LibcameraCamera::convert(const lc::FrameBuffer& buffer) const {
     cv::cvtColor(cv::Mat(height_ * 3 / 2, width_, CV_8UC1, base, stride_), out,
                  cv::COLOR_YUV2BGR_NV12);
   if (fourcc_ == "MJPG")
-    out = cv::imdecode(cv::Mat(1, int(std::min(used, length)), CV_8U, base), cv::IMREAD_COLOR);
+    out = io::imdecode_accepted(cv::Mat(1, int(std::min(used, length)), CV_8U, base),
+                                cv::IMREAD_COLOR);
   return out;
 }
 

@@ -16,6 +16,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/image_file.h"
+
 namespace orthoface::capture {
 namespace {
 
@@ -228,7 +230,8 @@ bool V4l2Camera::decode(const Buffer& buffer, size_t bytes, cv::Mat& out) const 
     return true;
   }
   const cv::Mat jpeg(1, int(std::min(bytes, buffer.length)), CV_8U, buffer.data);
-  out = cv::imdecode(jpeg, cv::IMREAD_COLOR);  // copies: the buffer goes back to the driver
+  // Copies: the buffer goes back to the driver.
+  out = io::imdecode_accepted(jpeg, cv::IMREAD_COLOR);
   return !out.empty() && out.cols == width_ && out.rows == height_;
 }
 

@@ -19,6 +19,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "io/atomic_file.h"
+#include "io/image_file.h"
 #include "mesh/mesh_io_detail.h"
 
 namespace orthoface::mesh {
@@ -49,7 +50,7 @@ cv::Mat load_texture(const std::string& image_path, const std::string& mesh_path
   if (p.is_relative()) p = std::filesystem::path(mesh_path).parent_path() / p;
   if (!std::filesystem::exists(p))
     fail(mesh_path, "texture image " + p.string() + " does not exist");
-  cv::Mat img = cv::imread(p.string(), cv::IMREAD_COLOR);
+  cv::Mat img = orthoface::io::imread_accepted(p.string(), cv::IMREAD_COLOR);
   if (img.empty()) fail(mesh_path, "texture image " + p.string() + " cannot be decoded");
   return img;
 }

@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgcodecs.hpp>
 
+#include "io/image_file.h"
 #include "mesh/mesh_io_detail.h"
 
 namespace orthoface::mesh::io {
@@ -261,9 +262,9 @@ class Scene {
     const std::vector<unsigned char>& bytes = g_.images[index].image;
     cv::Mat out;
     if (!bytes.empty() && bytes.size() < size_t(std::numeric_limits<int>::max()))
-      out = cv::imdecode(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U,
-                                 const_cast<unsigned char*>(bytes.data())),
-                         cv::IMREAD_COLOR);
+      out = orthoface::io::imdecode_accepted(cv::Mat(1, static_cast<int>(bytes.size()), CV_8U,
+                                                     const_cast<unsigned char*>(bytes.data())),
+                                             cv::IMREAD_COLOR);
     if (out.empty()) fail(path_, "image " + std::to_string(index) + " cannot be decoded");
     return out;
   }

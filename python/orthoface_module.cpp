@@ -26,6 +26,7 @@
 #include "analysis/similarity.h"
 #include "capture/camera_model.h"
 #include "io/atomic_file.h"
+#include "io/image_file.h"
 #include "mesh/mesh_io.h"
 #include "reconstruct/reconstruction.h"
 #include "reconstruct/views.h"
@@ -71,7 +72,7 @@ void require_file(const std::string& path, const std::string& name) {
 
 cv::Mat read_colour_image(const std::string& path, const std::string& name) {
   require_file(path, name);
-  cv::Mat image = cv::imread(path, cv::IMREAD_COLOR);
+  cv::Mat image = io::imread_accepted(path, cv::IMREAD_COLOR);
   if (image.empty()) throw std::runtime_error(name + " " + path + ": not a readable image");
   return image;
 }

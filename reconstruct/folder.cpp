@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "io/atomic_file.h"
+#include "io/image_file.h"
 #include "io/json_text.h"
 #include "mesh/mesh_io.h"
 #include "mesh/topology.h"
@@ -177,15 +178,17 @@ Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& op
   }
   if (fs::is_regular_file(in / "silhouette_front.png") &&
       fs::is_regular_file(in / "silhouette_side.png")) {
-    r.front_silhouette = cv::imread((in / "silhouette_front.png").string(), cv::IMREAD_GRAYSCALE);
-    r.side_silhouette = cv::imread((in / "silhouette_side.png").string(), cv::IMREAD_GRAYSCALE);
+    r.front_silhouette =
+        io::imread_accepted((in / "silhouette_front.png").string(), cv::IMREAD_GRAYSCALE);
+    r.side_silhouette =
+        io::imread_accepted((in / "silhouette_side.png").string(), cv::IMREAD_GRAYSCALE);
     if (r.front_silhouette.size() != r.front.size() || r.side_silhouette.size() != r.side.size())
       throw std::runtime_error(what +
                                ": silhouette_front.png / silhouette_side.png are unreadable "
                                "or not the photos' size");
   }
   if (fs::is_regular_file(in / "background_front.png")) {
-    r.front_plate = cv::imread((in / "background_front.png").string(), cv::IMREAD_COLOR);
+    r.front_plate = io::imread_accepted((in / "background_front.png").string(), cv::IMREAD_COLOR);
     if (r.front_plate.size() != r.front.size())
       throw std::runtime_error(what +
                                ": background_front.png is unreadable or not the front "

@@ -7,6 +7,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/image_file.h"
+
 namespace orthoface::vision {
 
 namespace {
@@ -52,38 +54,17 @@ void check_not_truncated(const std::string& path) {
     throw std::runtime_error("image '" + path + "': truncated PNG (no IEND chunk)");
 }
 
-// Only the photo formats the tools accept reach OpenCV's decoders, chosen by content: imread
-// otherwise hands any file to whichever codec claims its bytes (a truncated DICOM file made
-// GDCM abort the process).
-void check_photo_format(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::string h(132, '\0');
-  f.read(h.data(), 132);
-  const auto u = [&](int i) { return uchar(h[size_t(i)]); };
-  const bool jpeg = u(0) == 0xFF && u(1) == 0xD8;
-  const bool png = h.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
-  const bool bmp = h.compare(0, 2, "BM") == 0;
-  const bool tiff = h.compare(0, 4, std::string("II*\0", 4)) == 0 ||
-                    h.compare(0, 4, std::string("MM\0*", 4)) == 0;
-  const bool webp = h.compare(0, 4, "RIFF") == 0 && h.compare(8, 4, "WEBP") == 0;
-  const bool pnm = h[0] == 'P' && h[1] >= '1' && h[1] <= '6';
-  // OpenCV tries the DICOM decoder before any whose signature does not match exactly.
-  const bool dicom = h.compare(128, 4, "DICM") == 0;
-  if (!(jpeg || png || bmp || tiff || webp || pnm) || dicom)
-    throw std::runtime_error("image '" + path +
-                             "': not a PNG, JPEG, BMP, TIFF, WebP or PNM/PGM/PPM file");
-}
-
 }  // namespace
 
 cv::Mat read_image(const std::string& path) {
   if (!std::filesystem::is_regular_file(path))
     throw std::runtime_error("image '" + path + "': no such file");
-  check_photo_format(path);
+  if (!io::accepted_image_file(path))
+    throw std::runtime_error("image '" + path + "': not a " + io::kAcceptedImageTypes + " file");
   check_not_truncated(path);
   cv::Mat raw;
   try {
-    raw = cv::imread(path, cv::IMREAD_UNCHANGED);
+    raw = cv::imread(path, cv::IMREAD_UNCHANGED);  // accepted above
   } catch (const cv::Exception& e) {
     throw std::runtime_error("image '" + path + "': cannot be decoded (" + e.msg + ")");
   }

@@ -99,6 +99,23 @@ TEST(MeshIo, ObjTextureFoundThroughRelativePaths) {
   EXPECT_EQ(cv::norm(q.texture, m.texture, cv::NORM_INF), 0);
 }
 
+// A texture that is not an accepted image type (here a DICOM file cut short, which OpenCV's
+// DICOM decoder aborted on) is refused with the mesh's error, not decoded.
+TEST(MeshIo, TextureOfAnotherTypeIsRefusedNotDecoded) {
+  const auto dir = testing::temp_dir("mesh_io_dicom_texture");
+  write_mesh(textured_tetrahedron(), (dir / "tet.obj").string());
+  std::string dicom(128, '\0');
+  dicom.replace(0, 8, "\x89PNG\x05\n\x1a\n", 8);  // one byte off a PNG signature
+  dicom += std::string("DICM\0", 5);
+  write_text(dir / "tet.png", dicom);
+  try {
+    read_mesh((dir / "tet.obj").string());
+    ADD_FAILURE() << "the DICOM texture was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot be decoded"), std::string::npos) << e.what();
+  }
+}
+
 TEST(MeshIo, PlyRoundTripBinaryAndAscii) {
   const auto dir = testing::temp_dir("mesh_io_ply");
   const TriMesh m = textured_tetrahedron();
