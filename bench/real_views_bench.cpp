@@ -29,11 +29,13 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "bench/bench_report.h"
 #include "judge/face_judge.h"
+#include "judge/head_region.h"
 #include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/contact_sheet.h"
@@ -93,6 +95,34 @@ void draw_points(cv::Mat& image, const std::optional<judge::FaceFound>& face) {
   for (const cv::Point2d& p : face->points) cv::circle(image, p, 2, {0, 255, 0}, cv::FILLED);
 }
 
+// The view's eye corners and centres (the model's landmarks through the view's camera) and the
+// judge's on a real photo: iBUG 36, 39, 42, 45 and the means of 36-41 / 42-47.
+const std::pair<const char*, std::vector<int>> kEyePoints[] = {
+    {"eye_right_outer", {36}},
+    {"eye_right_inner", {39}},
+    {"eye_left_inner", {42}},
+    {"eye_left_outer", {45}},
+    {"eye_right_center", {36, 37, 38, 39, 40, 41}},
+    {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
+
+// The similarity taking the view's pixels onto the real photo's by the eyes; empty when the model
+// lacks the eye landmarks.
+cv::Mat view_to_real(const reconstruct::Reconstruction& rec, const capture::CameraModel& camera,
+                     const judge::Landmarks68& real) {
+  std::vector<cv::Point2f> from, to;
+  for (const auto& [name, indices] : kEyePoints) {
+    const auto it = rec.landmarks.find(name);
+    if (it == rec.landmarks.end()) continue;
+    const Eigen::Vector2d px = capture::project(camera, it->second);
+    cv::Point2d mean(0, 0);
+    for (int i : indices) mean += real[size_t(i)];
+    from.emplace_back(float(px.x()), float(px.y()));
+    to.push_back(mean / double(indices.size()));
+  }
+  if (from.size() < 3) return {};
+  return cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
+}
+
 struct Options {
   std::vector<std::string> people;  // empty: all
   render::Blend blend = render::SynthesisOptions{}.blend;
@@ -134,6 +164,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
+  double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
+  int iou_n = 0, wrong_size = 0;
   std::string md =
       "| person | faces found (+-15, +-30, +-45) | NME photographed side (baseline) | NME other "
       "side "
@@ -209,6 +241,14 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const auto real_near_face = judge.largest_face(real_near);
       const auto real_far_face = judge.largest_face(real_far);
       const auto front_face = judge.largest_face(front);
+      // The real +-45 photos' heads (hair included), for the whole head's silhouette.
+      cv::Mat real_head[2];
+      for (int s = 0; s < 2; ++s) {
+        const auto& f = s == 0 ? real_near_face : real_far_face;
+        const cv::Mat& photo = s == 0 ? real_near : real_far;
+        const cv::Rect box = f ? f->box & cv::Rect(0, 0, photo.cols, photo.rows) : cv::Rect();
+        if (box.width >= 4 && box.height >= 4) real_head[s] = judge::head_region(photo, box);
+      }
       if (front_face) {  // vision's front landmarks against the judge's, / outer-eye distance
         const auto& d = front_face->points;
         const double iod = cv::norm(d[36] - d[45]);
@@ -232,13 +272,20 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const cv::Rect crop = head_crop(front, front_face);  // the views keep the front's framing
       tiles.push_back({shown(crop).clone(), p + " front (Img_33)"});
       std::string found_text;
-      double nme[2] = {NAN, NAN}, base[2] = {NAN, NAN};
+      double nme[2] = {NAN, NAN}, base[2] = {NAN, NAN}, head_iou[2] = {NAN, NAN};
+      std::pair<cv::Mat, cv::Mat> real_outline[2];
       for (int k = 0; k < 3; ++k) {
         int n_found = 0;
         for (int side_k = 0; side_k < 2; ++side_k) {  // 0 photographed side, 1 other side
           const double yaw = kYawsDeg[k] * near_sign * (side_k == 0 ? 1 : -1);
           const render::SynthesisResult v = view(yaw);
           const cv::Mat image = opt.composite ? scene.composite(v.view) : v.view.image;
+          if (opt.composite) {
+            const double black = judge::black_fraction(image);
+            black_max = std::max(black_max, black);
+            r["black_fraction_max"] = std::max(r.value("black_fraction_max", 0.0), black);
+            if (image.size() != front.size()) ++wrong_size;
+          }
           const auto face = judge.largest_face(image);
           ++views[k];
           if (face) ++found[k], ++n_found;
@@ -251,6 +298,22 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
           if (kYawsDeg[k] != 45) continue;
           const auto& real_face = side_k == 0 ? real_near_face : real_far_face;
           if (!real_face) continue;  // dlib does not annotate this real photo: not scored
+          if (!real_head[side_k].empty()) {
+            const cv::Mat m =
+                view_to_real(rec, model.camera(rec.rig.front, yaw, 0), real_face->points);
+            if (!m.empty()) {
+              const double iou =
+                  judge::head_iou(v.view.mask, m, real_head[side_k], real_face->points[8].y);
+              iou_sum += iou, ++iou_n;
+              head_iou[side_k] = iou;
+              r["head_iou_45"][side_k == 0 ? "photographed" : "other"] = iou;
+              // The sheet's real photo shows both outlines: the real head (green), the view's
+              // (red).
+              cv::Mat carried;
+              cv::warpAffine(v.view.mask, carried, m, real_head[side_k].size(), cv::INTER_NEAREST);
+              real_outline[side_k] = {real_head[side_k].clone(), carried};
+            }
+          }
           nme[side_k] = judge::shape_nme_or_miss(face, real_face->points);
           base[side_k] = judge::shape_nme_or_miss(front_face, real_face->points);
         }
@@ -261,8 +324,20 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         const auto& real_face = s == 0 ? real_near_face : real_far_face;
         cv::Mat img = (s == 0 ? real_near : real_far).clone();
         draw_points(img, real_face);
-        tiles.push_back(
-            {img(head_crop(img, real_face)).clone(), s == 0 ? "real Img_43" : "real Img_23"});
+        for (const auto& [mask, colour] :
+             {std::pair{real_outline[s].first, cv::Scalar(0, 255, 0)},
+              std::pair{real_outline[s].second, cv::Scalar(0, 0, 255)}}) {
+          if (mask.empty()) continue;
+          std::vector<std::vector<cv::Point>> contours;
+          cv::findContours(mask.clone(), contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_SIMPLE);
+          cv::drawContours(img, contours, -1, colour, 2);
+        }
+        const cv::Rect real_crop = head_crop(img, real_face);
+        if (!std::isnan(head_iou[s]))
+          cv::putText(img, cv::format("head IoU %.2f", head_iou[s]),
+                      {real_crop.x + 10, real_crop.y + real_crop.height - 20},
+                      cv::FONT_HERSHEY_SIMPLEX, 1.0, {255, 255, 255}, 2);
+        tiles.push_back({img(real_crop).clone(), s == 0 ? "real Img_43" : "real Img_23"});
         if (std::isnan(nme[s])) continue;
         nme_sum[s] += nme[s], base_sum[s] += base[s], ++nme_n[s], ++compared[s];
         if (nme[s] < base[s]) ++better[s];
@@ -297,6 +372,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                      {"better_than_baseline", better[s]},
                                      {"scored", compared[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
+  if (iou_n > 0) out["head_iou_45"] = {{"mean", iou_sum / iou_n}, {"scored", iou_n}};
+  if (opt.composite)
+    out["composited"] = {{"black_fraction_max", black_max}, {"views_not_front_size", wrong_size}};
   out["front_landmarker"] = vision::front_landmarker_name(opt.landmarker);
   md += cv::format(
       "\nFront landmarks (%s) against the judge's, fraction of the outer-eye distance, "
@@ -318,6 +396,16 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       md += cv::format(
           "NME at 45 (%s side): %.3f, baseline %.3f, better than the baseline on %d/%d.\n",
           side_name[s], nme_sum[s] / nme_n[s], base_sum[s] / nme_n[s], better[s], compared[s]);
+  if (iou_n > 0)
+    md += cv::format(
+        "Head silhouette at 45 (eye-aligned, above the real chin) against GrabCut's head in the "
+        "real photo: IoU %.3f mean over %d views.\n",
+        iou_sum / iou_n, iou_n);
+  if (opt.composite)
+    md += cv::format(
+        "Composited views: pure black at most %.4f of a frame; %d not the front "
+        "photo's size.\n",
+        black_max, wrong_size);
   md += cv::format(
       "Yaw 0 vs the front photo where it sees the head: min PSNR %.1f dB (%.0f = "
       "identical); the side camera's view vs the side photo: min %.1f dB.\n",

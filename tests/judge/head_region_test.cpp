@@ -1,0 +1,89 @@
+#include "judge/head_region.h"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+namespace orthoface::judge {
+namespace {
+
+// A head on a cluttered background: a skin-coloured face, dark hair above and beside it, a
+// neck, all over random grey blocks; `head` is the truth (face and hair, not the neck).
+cv::Mat head_photo(cv::Mat& head) {
+  cv::Mat photo(480, 640, CV_8UC3);
+  cv::RNG rng(7);
+  for (int y = 0; y < photo.rows; y += 16)
+    for (int x = 0; x < photo.cols; x += 16) {
+      const int g = rng.uniform(60, 200);
+      photo(cv::Rect(x, y, 16, 16)).setTo(cv::Scalar(g, g + 10, g - 20));
+    }
+  head = cv::Mat::zeros(photo.size(), CV_8U);
+  cv::ellipse(head, {320, 200}, {105, 125}, 0, 0, 360, 255, cv::FILLED);  // hair and skull
+  photo.setTo(cv::Scalar(20, 30, 45), head);
+  cv::Mat face = cv::Mat::zeros(photo.size(), CV_8U);
+  cv::ellipse(face, {320, 240}, {75, 95}, 0, 0, 360, 255, cv::FILLED);
+  photo.setTo(cv::Scalar(120, 150, 200), face);
+  head |= face;
+  cv::rectangle(photo, {290, 330}, {350, 480}, cv::Scalar(115, 145, 195), cv::FILLED);  // neck
+  return photo;
+}
+
+TEST(HeadRegion, CutsTheHeadWithItsHairOutOfClutter) {
+  cv::Mat truth;
+  const cv::Mat photo = head_photo(truth);
+  const cv::Mat region = head_region(photo, cv::Rect(260, 170, 120, 130));
+  ASSERT_EQ(region.size(), photo.size());
+  ASSERT_EQ(region.type(), CV_8UC1);
+  // Above the chin (row 330) the region is the head, hair included.
+  const cv::Mat eye = cv::Mat::eye(2, 3, CV_64F);
+  EXPECT_GT(head_iou(region, eye, truth, 330), 0.9);
+  // The face box's middle is head, a corner of the frame is not.
+  EXPECT_GT(region.at<uchar>(240, 320), 0);
+  EXPECT_EQ(region.at<uchar>(10, 10), 0);
+}
+
+TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
+  cv::Mat truth;
+  const cv::Mat photo = head_photo(truth);
+  EXPECT_THROW(head_region(cv::Mat(), {10, 10, 50, 50}), std::invalid_argument);
+  cv::Mat grey;
+  cv::cvtColor(photo, grey, cv::COLOR_BGR2GRAY);
+  EXPECT_THROW(head_region(grey, {260, 170, 120, 130}), std::invalid_argument);
+  EXPECT_THROW(head_region(photo, {600, 400, 120, 130}), std::invalid_argument);  // outside
+  EXPECT_THROW(head_region(photo, {260, 170, 2, 2}), std::invalid_argument);      // too small
+}
+
+TEST(HeadIou, OverlapAfterTheTransformAboveTheCut) {
+  cv::Mat a = cv::Mat::zeros(100, 100, CV_8U), b = a.clone();
+  a(cv::Rect(10, 10, 40, 40)).setTo(255);
+  b(cv::Rect(30, 10, 40, 40)).setTo(255);
+  const cv::Mat eye = cv::Mat::eye(2, 3, CV_64F);
+  EXPECT_DOUBLE_EQ(head_iou(a, eye, a, 100), 1.0);
+  // 20 of 40 columns shared: 800 / (1600 + 1600 - 800).
+  EXPECT_NEAR(head_iou(a, eye, b, 100), 800.0 / 2400.0, 1e-9);
+  // Moved 20 px right, a is b.
+  cv::Mat shift = eye.clone();
+  shift.at<double>(0, 2) = 20;
+  EXPECT_DOUBLE_EQ(head_iou(a, shift, b, 100), 1.0);
+  // Only the rows above the cut count: cut at row 30, 20 rows of each square.
+  EXPECT_NEAR(head_iou(a, eye, b, 30), 400.0 / 1200.0, 1e-9);
+  EXPECT_EQ(head_iou(a, eye, b, 5), 0.0);  // both empty above row 5
+}
+
+TEST(HeadIou, RefusesBadMasksAndTransforms) {
+  const cv::Mat m = cv::Mat::zeros(20, 20, CV_8U), eye = cv::Mat::eye(2, 3, CV_64F);
+  EXPECT_THROW(head_iou(cv::Mat(), eye, m, 10), std::invalid_argument);
+  EXPECT_THROW(head_iou(m, eye, cv::Mat::zeros(20, 20, CV_32F), 10), std::invalid_argument);
+  EXPECT_THROW(head_iou(m, cv::Mat::eye(3, 3, CV_64F), m, 10), std::invalid_argument);
+}
+
+TEST(BlackFraction, CountsPixelsBlackInEveryChannel) {
+  cv::Mat image(10, 10, CV_8UC3, cv::Scalar(0, 0, 0));
+  image(cv::Rect(0, 0, 10, 5)).setTo(cv::Scalar(0, 0, 1));  // dark red is not black
+  EXPECT_DOUBLE_EQ(black_fraction(image), 0.5);
+  EXPECT_DOUBLE_EQ(black_fraction(cv::Mat(4, 4, CV_8U, cv::Scalar(9))), 0.0);
+  EXPECT_THROW(black_fraction(cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(black_fraction(cv::Mat(4, 4, CV_32FC3)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace orthoface::judge
