@@ -115,6 +115,26 @@ std::vector<Slice> head_slices(const cv::Mat& front, const cv::Mat& side,
     z_ref = s->zc;
   }
   if (up.empty()) return {};
+  // Above the side silhouette's top (a pair not taken at one height, hair the side photo's cut
+  // lost) the front silhouette may still hold head: the slices go on with its width and a depth
+  // that shrinks with that width, so the head drawn covers the front photo's whole head.
+  for (double y = up.back().y + o.slice_mm; y < mean.y() + kSearchMm; y += o.slice_mm) {
+    const Slice& last = up.back();
+    const auto width_run = run_at(
+        [&](double x) {
+          return inside(front, rig.front, {x, y, last.zc});
+        },
+        x_ref);
+    if (!width_run) break;
+    Slice s = last;
+    s.y = y;
+    s.xc = 0.5 * (width_run->first + width_run->second);
+    s.a = 0.5 * (width_run->second - width_run->first + 1);
+    if (s.a < 3) break;
+    s.b = last.b * std::min(1.0, s.a / last.a);
+    up.push_back(s);
+    x_ref = s.xc;
+  }
   x_ref = up.front().xc;
   z_ref = up.front().zc;
   double narrowest = std::numeric_limits<double>::infinity();

@@ -116,6 +116,16 @@ void map_lab(cv::Mat& bgr01, const ColourMatch& m, int source) {
     const double gain = s > 1e-6 ? std::clamp(target_std / s, 0.67, 1.5) : 1.0;
     ch[k].convertTo(ch[k], CV_32F, gain, target_mean - gain * m.mean[source][k]);
   }
+  // Lightness below the skin's: the line through the skin's statistics would take dark hair
+  // below black (a side photo lit brighter than the front); the ray from black through the
+  // skin's mean lightness keeps it dark but not crushed, and meets the line at that mean.
+  const double sm = m.mean[source][0], tm = m.mean[0][0];
+  if (sm > 1e-6) {
+    cv::Mat source_l;
+    cv::extractChannel(lab, source_l, 0);
+    const cv::Mat ray = source_l * (tm / sm);
+    ray.copyTo(ch[0], (source_l < sm) & (ray > ch[0]));
+  }
   cv::merge(ch, lab);
   cv::cvtColor(lab, bgr01, cv::COLOR_Lab2BGR);
 }

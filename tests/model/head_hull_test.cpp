@@ -137,6 +137,31 @@ TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
   EXPECT_LT(widest, 52);
 }
 
+// The side photo's cut misses the top of the head (hair on a dark curtain, a pair not taken at
+// one height): the head still reaches the front silhouette's top, narrowing in depth as in width.
+TEST(HeadHull, ReachesTheFrontSilhouettesTopAboveTheSides) {
+  KnownHead k;
+  const Eigen::Vector2d cut = capture::project(k.rig.side, {0, 100, 0});
+  k.side.rowRange(0, int(cut.y())).setTo(0);  // nothing above y = 100 mm in the side photo
+  const HeadHull hull = head_hull(k.front, k.side, k.rig, face_patch());
+  ASSERT_FALSE(hull.mesh.triangles.empty());
+  EXPECT_TRUE(mesh::topology_report(hull.mesh).closed());
+  double top = -1e9, depth_high = 0, width_high = 0;
+  for (const auto& v : hull.mesh.vertices) {
+    top = std::max(top, v.y());
+    if (std::abs(v.y() - 120) > 1.01) continue;  // above the side's top
+    depth_high = std::max(depth_high, std::abs(v.z() + 10));
+    width_high = std::max(width_high, std::abs(v.x()));
+  }
+  EXPECT_NEAR(top, 130, 3);  // the front's top, not the side's 100
+  // At y = 120 the ellipsoid is 75 * sqrt(1 - (100 / 110)^2) = 31 mm wide each way; the depth
+  // follows the width from the last slice both photos hold, so it is no deeper than the head's
+  // 95 mm there and far less than at the equator.
+  EXPECT_NEAR(width_high, 31, 4);
+  EXPECT_GT(depth_high, 5);
+  EXPECT_LT(depth_high, 60);
+}
+
 TEST(HeadHull, NoHeadAroundTheFaceGivesNoHull) {
   const KnownHead k;
   const cv::Mat nothing(k.front.size(), CV_8U, cv::Scalar(0));
