@@ -105,19 +105,29 @@ const std::pair<const char*, std::vector<int>> kEyePoints[] = {
     {"eye_right_center", {36, 37, 38, 39, 40, 41}},
     {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
 
+// The judge's eye points in the order of kEyePoints.
+std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
+  std::vector<cv::Point2f> out;
+  for (const auto& entry : kEyePoints) {
+    cv::Point2d mean(0, 0);
+    for (int i : entry.second) mean += points[size_t(i)];
+    out.push_back(mean / double(entry.second.size()));
+  }
+  return out;
+}
+
 // The similarity taking the view's pixels onto the real photo's by the eyes; empty when the model
 // lacks the eye landmarks.
 cv::Mat view_to_real(const reconstruct::Reconstruction& rec, const capture::CameraModel& camera,
                      const judge::Landmarks68& real) {
+  const std::vector<cv::Point2f> real_eyes = eye_points(real);
   std::vector<cv::Point2f> from, to;
-  for (const auto& [name, indices] : kEyePoints) {
-    const auto it = rec.landmarks.find(name);
+  for (size_t k = 0; k < std::size(kEyePoints); ++k) {
+    const auto it = rec.landmarks.find(kEyePoints[k].first);
     if (it == rec.landmarks.end()) continue;
     const Eigen::Vector2d px = capture::project(camera, it->second);
-    cv::Point2d mean(0, 0);
-    for (int i : indices) mean += real[size_t(i)];
     from.emplace_back(float(px.x()), float(px.y()));
-    to.push_back(mean / double(indices.size()));
+    to.push_back(real_eyes[k]);
   }
   if (from.size() < 3) return {};
   return cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
@@ -166,6 +176,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
   double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
+  double iou_base_sum = 0;  // the front photo's head, unrotated, against the same real heads
+  int iou_base_n = 0;
   std::string md =
       "| person | faces found (+-15, +-30, +-45) | NME photographed side (baseline) | NME other "
       "side "
@@ -241,7 +253,13 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const auto real_near_face = judge.largest_face(real_near);
       const auto real_far_face = judge.largest_face(real_far);
       const auto front_face = judge.largest_face(front);
-      // The real +-45 photos' heads (hair included), for the whole head's silhouette.
+      // The real +-45 photos' heads (hair included), for the whole head's silhouette, and the
+      // front photo's, shown unrotated (the baseline).
+      cv::Mat front_head;
+      if (front_face) {
+        const cv::Rect box = front_face->box & cv::Rect(0, 0, front.cols, front.rows);
+        if (box.width >= 4 && box.height >= 4) front_head = judge::head_region(front, box);
+      }
       cv::Mat real_head[2];
       for (int s = 0; s < 2; ++s) {
         const auto& f = s == 0 ? real_near_face : real_far_face;
@@ -307,6 +325,17 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
               iou_sum += iou, ++iou_n;
               head_iou[side_k] = iou;
               r["head_iou_45"][side_k == 0 ? "photographed" : "other"] = iou;
+              if (!front_head.empty()) {
+                const cv::Mat b = cv::estimateAffinePartial2D(eye_points(front_face->points),
+                                                              eye_points(real_face->points),
+                                                              cv::noArray(), cv::LMEDS);
+                if (!b.empty()) {
+                  const double base_iou =
+                      judge::head_iou(front_head, b, real_head[side_k], real_face->points[8].y);
+                  iou_base_sum += base_iou, ++iou_base_n;
+                  r["baseline_head_iou_45"][side_k == 0 ? "photographed" : "other"] = base_iou;
+                }
+              }
               // The sheet's real photo shows both outlines: the real head (green), the view's
               // (red).
               cv::Mat carried;
@@ -373,6 +402,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                      {"scored", compared[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
   if (iou_n > 0) out["head_iou_45"] = {{"mean", iou_sum / iou_n}, {"scored", iou_n}};
+  if (iou_base_n > 0)
+    out["baseline_head_iou_45"] = {{"mean", iou_base_sum / iou_base_n}, {"scored", iou_base_n}};
   if (opt.composite)
     out["composited"] = {{"black_fraction_max", black_max}, {"views_not_front_size", wrong_size}};
   out["front_landmarker"] = vision::front_landmarker_name(opt.landmarker);
@@ -399,8 +430,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   if (iou_n > 0)
     md += cv::format(
         "Head silhouette at 45 (eye-aligned, above the real chin) against GrabCut's head in the "
-        "real photo: IoU %.3f mean over %d views.\n",
-        iou_sum / iou_n, iou_n);
+        "real photo: IoU %.3f mean over %d views (the front photo's head unrotated: %.3f over "
+        "%d).\n",
+        iou_sum / iou_n, iou_n, iou_base_n ? iou_base_sum / iou_base_n : NAN, iou_base_n);
   if (opt.composite)
     md += cv::format(
         "Composited views: pure black at most %.4f of a frame; %d not the front "

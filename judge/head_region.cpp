@@ -33,7 +33,13 @@ cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box) {
       .setTo(cv::GC_PR_FGD);
   mask(sure).setTo(cv::GC_FGD);
   cv::Mat bgd, fgd;
+  // A fixed k-means seed (the thread's cv::theRNG()): the region depends on the photo alone and
+  // the caller's random state is left as it was.
+  cv::RNG& rng = cv::theRNG();
+  const uint64 caller_state = rng.state;
+  rng.state = 0xffffffff;  // cv::RNG's default state, a fresh thread's
   cv::grabCut(small, mask, box, bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+  rng.state = caller_state;
   cv::Mat head = (mask == cv::GC_FGD) | (mask == cv::GC_PR_FGD);
   // The part that holds the face.
   cv::Mat labels;

@@ -12,6 +12,8 @@
 namespace orthoface::vision {
 namespace {
 
+constexpr uint64 kGrabCutSeed = 0xffffffff;  // cv::RNG's default state, a fresh thread's
+
 // `blob` grown by GrabCut into `box` (full-size pixels): the blob eroded is subject for certain,
 // the blob and the box possibly, the rest background. The result keeps the component that holds
 // the blob, holes filled.
@@ -34,7 +36,14 @@ cv::Mat grow(const cv::Mat& bgr, const cv::Mat& blob, const cv::Rect2d& box,
   mask.setTo(cv::GC_PR_FGD, small_blob);
   mask.setTo(cv::GC_FGD, sure);
   cv::Mat bgd, fgd;
+  // GrabCut seeds its colour models by k-means from this thread's cv::theRNG(): a fixed state
+  // makes the silhouette depend on the photo alone, not on what ran on the thread before it (a
+  // batch of pairs, a station's refits); the caller's state is put back.
+  cv::RNG& rng = cv::theRNG();
+  const uint64 caller_state = rng.state;
+  rng.state = kGrabCutSeed;
   cv::grabCut(small, mask, cv::Rect(), bgd, fgd, o.iterations, cv::GC_INIT_WITH_MASK);
+  rng.state = caller_state;
   cv::Mat subject = (mask == cv::GC_FGD) | (mask == cv::GC_PR_FGD);
 
   // The component that holds the sure subject, its holes filled.

@@ -39,6 +39,12 @@ TEST(HeadRegion, CutsTheHeadWithItsHairOutOfClutter) {
   // The face box's middle is head, a corner of the frame is not.
   EXPECT_GT(region.at<uchar>(240, 320), 0);
   EXPECT_EQ(region.at<uchar>(10, 10), 0);
+  // The same region whatever the thread's random state, which it leaves as it was.
+  cv::RNG& rng = cv::theRNG();
+  for (int i = 0; i < 1000; ++i) rng.next();
+  const uint64 before = rng.state;
+  EXPECT_EQ(cv::countNonZero(head_region(photo, cv::Rect(260, 170, 120, 130)) != region), 0);
+  EXPECT_EQ(rng.state, before);
 }
 
 TEST(HeadRegion, RefusesBadPhotosAndBoxes) {

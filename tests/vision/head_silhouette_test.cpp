@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <thread>
 
 #include <opencv2/imgproc.hpp>
 
@@ -75,6 +76,28 @@ TEST(SubjectSilhouettes, WithoutTheEyesTheBlobsStayAsTheyAre) {
   const Silhouettes s = subject_silhouettes(front.image, side.image, o);
   EXPECT_EQ(cv::countNonZero(s.front != front.face), 0);
   EXPECT_EQ(cv::countNonZero(s.side != side.face), 0);
+}
+
+// GrabCut's colour models start from k-means on the thread's cv::theRNG(): the silhouettes must
+// not depend on what drew from it before (a batch's earlier pairs), and the caller's state stays.
+TEST(SubjectSilhouettes, DoNotDependOnTheThreadsRandomState) {
+  Photo front(false), side(true);
+  // Speckled hair and curtain, so that k-means' start matters.
+  cv::Mat speckle(front.image.size(), CV_8UC3);
+  cv::RNG(11).fill(speckle, cv::RNG::UNIFORM, 0, 90);
+  for (Photo* p : {&front, &side}) cv::add(p->image, speckle, p->image, ~p->face);
+  FaceObservation o = observation();
+  o.front_blob = front.face.clone();
+  o.side_blob = side.face.clone();
+  Silhouettes fresh;  // on a new thread: the RNG's default state
+  std::thread([&] { fresh = subject_silhouettes(front.image, side.image, o); }).join();
+  cv::RNG& rng = cv::theRNG();
+  for (int i = 0; i < 1000; ++i) rng.next();
+  const uint64 before = rng.state;
+  const Silhouettes here = subject_silhouettes(front.image, side.image, o);
+  EXPECT_EQ(rng.state, before);
+  EXPECT_EQ(cv::countNonZero(here.front != fresh.front), 0);
+  EXPECT_EQ(cv::countNonZero(here.side != fresh.side), 0);
 }
 
 TEST(SubjectSilhouettes, BadInputIsRefusedNamingIt) {
