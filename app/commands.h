@@ -13,6 +13,7 @@ int run_eval(int argc, char** argv);
 int run_render(int argc, char** argv);
 int run_devices(int argc, char** argv);
 int run_capture(int argc, char** argv);
+int run_enrol(int argc, char** argv);
 int run_calibrate(int argc, char** argv);
 int run_station(int argc, char** argv);
 int run_features(int argc, char** argv);

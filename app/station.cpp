@@ -1,6 +1,7 @@
 // orthoface station: two live cameras, synchronized pairs on request, a fitted face model
 // tracked in the live front frames, and its turned view re-textured from the live frames where
-// the head is, every frame (the conferencing use).
+// the head is, every frame (the conferencing use). With one camera (--camera, --model) the model
+// is an enrolment's (orthoface enrol) and the side texture its profile photo.
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -46,12 +47,19 @@ Command station_command() {
       "into the live frame; takes a synchronized pair on a key press ('c') or "
       "POST /capture, refits the model on 'r', POST /refit or every --refit-every frames; in the "
       "window 'a' / 'd' turn the view by 5 deg and 'w' / 's' tilt it. "
-      "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/.",
-      "orthoface station --front DEV --side DEV [--yaw DEG] [--output "
-      "window|http:PORT|v4l2:/dev/videoN]",
+      "Ctrl-C / SIGTERM stop cleanly; every pair taken is saved in OUT/pairs/. With one camera "
+      "(--camera DEV --model DIR): the model of DIR (orthoface enrol or reconstruct) tracked "
+      "and re-textured in that camera's frames, the side texture from DIR's side photo; no "
+      "pairs or refits.",
+      "orthoface station (--front DEV --side DEV | --camera DEV --model DIR) [--yaw DEG] "
+      "[--output window|http:PORT|v4l2:/dev/videoN]",
       {{"front", true,
         "DEV  front camera: /dev/videoN, libcamera:ID, sim:N/front or file:VIDEO[?loop&fps=N]"},
        {"side", true, "DEV  side camera"},
+       {"camera", true, "DEV  the one camera, instead of --front and --side (needs --model)"},
+       {"model", true,
+        "DIR  with --camera: the reconstruction folder to track (its front photo taken by that "
+        "camera at its size, as orthoface enrol makes it)"},
        {"yaw", true,
         "DEG  rotated view yaw, -90..90 (default 30); with --output http: the page's sliders "
         "and POST /view?yaw=DEG&pitch=DEG change it while running"},
@@ -59,7 +67,7 @@ Command station_command() {
        {"output", true, "window|http:PORT|v4l2:/dev/videoN  (default http:8080)"},
        {"bind", true, "ADDR  http address (default 127.0.0.1)"},
        {"duration", true, "S  stop after S seconds (default: until Ctrl-C)"},
-       {"size", true, "WxH  capture size (default 640x480)"},
+       {"size", true, "WxH  capture size (default 640x480; with --model its photo's size)"},
        {"fps", true, "N  capture frame rate (default 30)"},
        {"rig", true, "rig.yaml  calibrated rig (sim: cameras use the simulated rig)"},
        {"retexture-every", true,
@@ -75,6 +83,8 @@ Command station_command() {
 
 struct Settings {
   std::string front, side, output = "http:8080", bind = "127.0.0.1", out = "station_out", rig_file;
+  std::string camera, model_dir;  // one camera: its id and the model's folder
+  std::shared_ptr<const reconstruct::Reconstruction> model;  // read from model_dir
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
   int width = 640, height = 480, refit_every = 0, retexture_every = 1;
   bool tracking = true;
@@ -82,21 +92,50 @@ struct Settings {
   std::optional<capture::RigCalibration> rig;  // --rig, or the simulated rig for sim: cameras
 };
 
+// --camera DEV --model DIR: checked and the model read before anything is opened or written.
+void one_camera_settings(const Args& a, Settings& s) {
+  for (const char* flag :
+       {"front", "side", "rig", "refit-every", "front-background", "side-background"})
+    if (a.has(flag))
+      throw std::invalid_argument(std::string("station: --") + flag +
+                                  " needs two cameras, not --camera");
+  if (!a.has("model"))
+    throw std::invalid_argument("station: --camera needs --model DIR (orthoface enrol makes one)");
+  s.camera = a.get("camera");
+  s.model_dir = a.get("model");
+  s.model = std::make_shared<const reconstruct::Reconstruction>(
+      reconstruct::read_reconstruction(s.model_dir));
+  const cv::Size photo = s.model->front.size();
+  if (a.has("size") && (photo.width != s.width || photo.height != s.height))
+    throw std::invalid_argument("station: --size " + a.get("size") + " is not the size of " +
+                                s.model_dir + "'s front photo (" + std::to_string(photo.width) +
+                                "x" + std::to_string(photo.height) +
+                                "): the camera must give frames of the model's photos");
+  s.width = photo.width;
+  s.height = photo.height;
+}
+
 Settings settings_from(const Args& a) {
   Settings s;
-  for (const char* flag : {"front", "side"})
-    if (!a.has(flag))
-      throw std::invalid_argument(std::string("station: --") + flag + " is required");
-  s.front = a.get("front");
-  s.side = a.get("side");
-  if (capture::same_device(s.front, s.side))
-    throw std::invalid_argument("station: --front and --side are the same device (" + s.front +
-                                ")");
+  if (a.has("model") && !a.has("camera"))
+    throw std::invalid_argument("station: --model needs --camera DEV (one camera)");
+  if (!a.has("camera")) {
+    for (const char* flag : {"front", "side"})
+      if (!a.has(flag))
+        throw std::invalid_argument(std::string("station: --") + flag +
+                                    " is required (or --camera DEV --model DIR)");
+    s.front = a.get("front");
+    s.side = a.get("side");
+    if (capture::same_device(s.front, s.side))
+      throw std::invalid_argument("station: --front and --side are the same device (" + s.front +
+                                  ")");
+  }
   if (a.has("yaw")) s.yaw_deg = to_double("yaw", a.get("yaw"), -90, 90);
   if (a.has("pitch")) s.pitch_deg = to_double("pitch", a.get("pitch"), -60, 60);
   if (a.has("duration")) s.duration_s = to_double("duration", a.get("duration"), 0.1, 1e7);
   if (a.has("fps")) s.fps = to_double("fps", a.get("fps"), 1, 240);
   if (a.has("size")) std::tie(s.width, s.height) = to_size("size", a.get("size"), 8192);
+  if (a.has("camera")) one_camera_settings(a, s);
   if (a.has("retexture-every"))
     s.retexture_every = to_int("retexture-every", a.get("retexture-every"), 1, 1000000);
   if (a.has("refit-every")) s.refit_every = to_int("refit-every", a.get("refit-every"), 0, 1000000);
@@ -107,8 +146,10 @@ Settings settings_from(const Args& a) {
   if (a.has("rig")) require_file(a.get("rig"), "--rig"), s.rig_file = a.get("rig");
   // Read here, before a port is bound, the output folder made or a camera opened: a bad rig
   // file costs nothing and leaves nothing behind.
-  s.rig = station_rig(s.rig_file, s.front, s.side, s.width, s.height);
-  read_clean_plates(a, s.observe, s.width, s.height);
+  if (s.camera.empty()) {
+    s.rig = station_rig(s.rig_file, s.front, s.side, s.width, s.height);
+    read_clean_plates(a, s.observe, s.width, s.height);
+  }
   const bool ok =
       s.output == "window" || s.output.rfind("http:", 0) == 0 || s.output.rfind("v4l2:", 0) == 0;
   if (!ok)
@@ -136,11 +177,17 @@ class Station {
   void render_view(const capture::Frame& front, const capture::Frame& side);
   void report_status(bool final_line);
   void write_summary();
+  capture::PairStats stats() const;
+  // One camera: its next frame drawn with the model's side photo; false when it has ended.
+  bool one_camera_frame();
   // " | head tracked (yaw Y pitch P)", " | HEAD LOST: why" or " | tracking off".
   std::string tracking_state() const;
 
   Settings s_;
-  std::unique_ptr<capture::PairCapture> pc_;
+  std::unique_ptr<capture::PairCapture> pc_;  // two cameras
+  std::unique_ptr<capture::Camera> camera_;   // or one
+  capture::PairStats one_stats_;              // the one camera's counters
+  std::vector<double> one_times_;             // its frames' timestamps (the last second's fps)
   std::optional<capture::RigCalibration> rig_;
   std::unique_ptr<StationHttp> http_;
   std::unique_ptr<V4l2Output> v4l2_;
@@ -152,8 +199,9 @@ class Station {
   double t0_ = 0, texture_time_ = 0;
   std::vector<double> retexture_ms_, draw_ms_, track_ms_;
   int frames_out_ = 0, fits_ = 0, frames_tracked_ = 0, frames_lost_ = 0;
-  reconstruct::TrackResult track_;  // the last frame's
-  bool was_tracked_ = true;         // the last frame's tracked state (true before the first)
+  std::uint64_t last_sequence_ = 0;  // the one camera's last frame
+  reconstruct::TrackResult track_;   // the last frame's
+  bool was_tracked_ = true;          // the last frame's tracked state (true before the first)
 };
 
 Station::Station(const Settings& s) : s_(s) {
@@ -167,11 +215,58 @@ Station::Station(const Settings& s) : s_(s) {
     v4l2_ = std::make_unique<V4l2Output>(s_.output.substr(5), s_.width, s_.height);
   prepare_output_dir(s_.out);
   rig_ = s_.rig;
+  if (s_.model) {
+    camera_ = capture::open_camera(s_.camera);
+    camera_->start(
+        capture::choose_format(camera_->formats(), s_.width, s_.height, s_.fps, s_.camera));
+    one_stats_.front_connected = true;
+    reconstruct::LiveViewOptions o;
+    o.tracking = s_.tracking;
+    o.still_side = true;  // the side texture is the model's own profile photo
+    live_ = std::make_unique<reconstruct::LiveView>(*s_.model, o);
+    events_.push_back("model read from " + s_.model_dir + " (" +
+                      std::to_string(s_.model->mesh.vertices.size()) + " vertices)");
+    return;
+  }
   capture::PairCaptureOptions o;
   o.width = s_.width;
   o.height = s_.height;
   o.fps = s_.fps;
   pc_ = std::make_unique<capture::PairCapture>(s_.front, s_.side, o);
+}
+
+capture::PairStats Station::stats() const {
+  if (pc_) return pc_->stats();
+  capture::PairStats st = one_stats_;
+  size_t first = one_times_.size();
+  while (first > 0 && one_times_[first - 1] > one_times_.back() - 1.0) --first;
+  const size_t n = one_times_.size() - first;
+  st.fps_front = n > 1 ? (n - 1) / (one_times_.back() - one_times_[first]) : 0.0;
+  return st;
+}
+
+bool Station::one_camera_frame() {
+  const capture::FrameResult r = camera_->next_frame(0.25);
+  if (r.status == capture::FrameStatus::Disconnected) {
+    // A file that ended or a camera that vanished: the run ends (its summary is written).
+    events_.push_back("camera ended: " + r.message);
+    one_stats_.front_connected = false;
+    ++one_stats_.disconnects;
+    return false;
+  }
+  if (r.status != capture::FrameStatus::Ok) return true;
+  if (one_stats_.frames_front > 0 && r.frame.sequence > last_sequence_ + 1)
+    one_stats_.dropped_front += r.frame.sequence - last_sequence_ - 1;
+  last_sequence_ = r.frame.sequence;
+  ++one_stats_.frames_front;
+  one_times_.push_back(r.frame.timestamp_s);
+  if (one_times_.size() > 512)  // only the last second is used
+    one_times_.erase(one_times_.begin(), one_times_.begin() + 256);
+  capture::Frame side;  // the enrolment's profile, as if taken with this frame
+  side.image = s_.model->side;
+  side.timestamp_s = r.frame.timestamp_s;
+  render_view(r.frame, side);
+  return true;
 }
 
 void Station::start_fit(const capture::FramePair& pair) {
@@ -203,6 +298,7 @@ void Station::finish_fit() {
 }
 
 void Station::take_pair() {
+  if (!pc_) return events_.push_back("no pairs with one camera");
   const auto pair = pc_->take_pair(1.5);
   if (!pair) return events_.push_back("no synchronized pair within 1.5 s (is a camera gone?)");
   char name[32];
@@ -213,7 +309,7 @@ void Station::take_pair() {
 
 void Station::handle(const std::string& action) {
   if (action == "capture") take_pair();
-  if (action == "refit") {
+  if (action == "refit" && pc_) {
     if (auto p = pc_->latest_pair()) start_fit(*p);
   }
 }
@@ -260,8 +356,11 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
     http_->publish("view", view_);
   }
   if (s_.output == "window") {
-    cv::Mat row;
-    cv::hconcat(std::vector<cv::Mat>{front.image, side.image, view_}, row);
+    cv::Mat row, side_shown = side.image;
+    if (side_shown.rows != front.image.rows)  // a model's side photo of another size
+      cv::resize(side_shown, side_shown,
+                 {side_shown.cols * front.image.rows / side_shown.rows, front.image.rows});
+    cv::hconcat(std::vector<cv::Mat>{front.image, side_shown, view_}, row);
     cv::imshow("orthoface station", row);
     const int key = cv::waitKey(1);
     if (key == 'c' || key == ' ') take_pair();
@@ -276,7 +375,7 @@ void Station::render_view(const capture::Frame& front, const capture::Frame& sid
 }
 
 void Station::report_status(bool final_line) {
-  const capture::PairStats st = pc_->stats();
+  const capture::PairStats st = stats();
   size_t k = out_times_.size();
   size_t first = k;
   while (first > 0 && out_times_[first - 1] > out_times_.back() - 1.0) --first;
@@ -291,7 +390,8 @@ void Station::report_status(bool final_line) {
       fps, st.fps_front, st.fps_side, st.skew_last_s * 1e3, lat * 1e3,
       static_cast<unsigned long long>(st.dropped_front),
       static_cast<unsigned long long>(st.dropped_side), pairs_saved_.size(),
-      st.front_connected ? "front ok" : "FRONT LOST", st.side_connected ? "side ok" : "SIDE LOST",
+      st.front_connected ? "front ok" : "FRONT LOST",
+      pc_ ? (st.side_connected ? "side ok" : "SIDE LOST") : "model side photo",
       !live_ ? " | no model yet" : tracking_state().c_str());
   std::fprintf(stderr, "\r%-118s%s", line, final_line ? "\n" : "");
   if (http_) {
@@ -320,7 +420,7 @@ std::string Station::tracking_state() const {
 }
 
 void Station::write_summary() {
-  const capture::PairStats st = pc_->stats();
+  const capture::PairStats st = stats();
   const double span = out_times_.size() > 1 ? out_times_.back() - out_times_.front() : 0;
   // Skip the first second (model fit, caches) for the steady-state figures.
   std::vector<double> lat;
@@ -357,6 +457,8 @@ void Station::write_summary() {
          {{"yaw", track_.pose.yaw_deg()},
           {"pitch", track_.pose.pitch_deg()},
           {"roll", track_.pose.roll_deg()}}}}},
+      {"cameras", pc_ ? nlohmann::json{{"front", s_.front}, {"side", s_.side}}
+                      : nlohmann::json{{"camera", s_.camera}, {"model", s_.model_dir}}},
       {"view_yaw_deg", s_.yaw_deg},
       {"view_pitch_deg", s_.pitch_deg},
       {"pairs_saved", pairs_saved_},
@@ -368,6 +470,19 @@ void Station::write_summary() {
 
 int Station::run() {
   t0_ = capture::monotonic_now_s();
+  if (camera_) {
+    double next_status = t0_;
+    while (!g_stop && (s_.duration_s <= 0 || capture::monotonic_now_s() - t0_ < s_.duration_s)) {
+      if (http_)
+        for (const std::string& a : http_->take_actions()) handle(a);
+      if (!one_camera_frame()) break;
+      if (capture::monotonic_now_s() >= next_status) report_status(false), next_status += 0.5;
+    }
+    report_status(true);
+    camera_->stop();
+    write_summary();
+    return 0;
+  }
   if (auto first = pc_->take_pair(5.0)) start_fit(*first);
   std::uint64_t last_front = ~0ull, last_side = ~0ull;
   double next_status = t0_;

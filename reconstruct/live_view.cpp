@@ -101,7 +101,9 @@ LiveFrame LiveView::update(const cv::Mat& front, const cv::Mat& side, double t_s
     // Below a tenth of a degree and a tenth of a millimetre the rig is kept (a head at rest).
     if (tracker_ && (pose.angle_to_deg(textured_pose_) > 0.1 ||
                      (pose.translation_mm - textured_pose_.translation_mm).norm() > 0.1)) {
-      synth_->set_rig(posed_rig(photo_rig_, pose));
+      capture::RigCalibration rig = posed_rig(photo_rig_, pose);
+      if (options_.still_side) rig.side = photo_rig_.side;
+      synth_->set_rig(rig);
       textured_pose_ = pose;
     }
     synth_->set_photos(front, side);

@@ -16,6 +16,9 @@ namespace orthoface::reconstruct {
 
 struct LiveViewOptions {
   bool tracking = true;  // false: the head is taken to stay where it was fitted
+  // The side frame is a still of the fit (one camera: the enrolment's profile photo, given as
+  // every update's `side`): its camera stays where the fit put it while the head moves.
+  bool still_side = false;
   TrackerOptions tracker;
   // The head hull, coarser than the offline views' (2 mm, 96): each of its triangles is drawn
   // three times a frame (two source depth maps and the view).

@@ -1,5 +1,6 @@
 #include "sim/sim_camera.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -22,6 +23,22 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// The head's yaw and pitch in frame `sequence` (degrees; sim/sim_camera.h).
+std::pair<double, double> frame_pose(const SimCameraOptions& o, std::uint64_t sequence) {
+  const double k = static_cast<double>(sequence % static_cast<std::uint64_t>(o.cycle_frames));
+  if (o.turn) return {o.motion_deg * k / std::max(1, o.cycle_frames - 1), 0.0};
+  return {o.motion_deg * std::sin(2 * kPi * k / o.cycle_frames),
+          o.pitch_deg * std::sin(4 * kPi * k / o.cycle_frames)};
+}
+
+// A turn past -45 degrees is beyond what the rig's cameras turn (sim::PoseError, +-45): the front
+// camera's frame is then the side camera's, whose nominal view is the head turned by -90, turned
+// by the rest (yaw + 90). Same intrinsics, same light (fixed to the head), so the same image.
+constexpr double kMaxCameraTurnDeg = 45;
+bool front_from_side(const SimCameraOptions& o, std::uint64_t sequence) {
+  return o.turn && frame_pose(o, sequence).first < -kMaxCameraTurnDeg;
+}
+
 // The RigOptions that render frame `sequence` of a width x height mode: the ideal rig scaled
 // with the width, the head's turn played as both cameras turning about it (sim/sim_camera.h).
 RigOptions frame_rig_options(const SimCameraOptions& o, int width, int height,
@@ -30,13 +47,11 @@ RigOptions frame_rig_options(const SimCameraOptions& o, int width, int height,
   rig.width = width;
   rig.height = height;
   rig.px_per_mm *= width / 640.0;
-  const double k = static_cast<double>(sequence % static_cast<std::uint64_t>(o.cycle_frames));
-  const double yaw = o.motion_deg * std::sin(2 * kPi * k / o.cycle_frames);
-  const double pitch = o.pitch_deg * std::sin(4 * kPi * k / o.cycle_frames);
+  const auto [yaw, pitch] = frame_pose(o, sequence);
   // Head yaw = both cameras yawing about their image y axes (level rig). Head pitch = the front
   // camera pitching about its image x axis = the side camera rolling about its view axis by
   // -pitch (its view axis is -x of the head frame, its image x is -z).
-  rig.front_error.yaw_deg = rig.side_error.yaw_deg = yaw;
+  rig.front_error.yaw_deg = rig.side_error.yaw_deg = front_from_side(o, sequence) ? yaw + 90 : yaw;
   rig.front_error.pitch_deg = pitch;
   rig.side_error.roll_deg = -pitch;
   rig.noise_sigma = o.noise_sigma;
@@ -52,11 +67,12 @@ struct Loop {
 
 std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, int height) {
   static std::mutex m;
-  static std::map<std::tuple<int, int, int, int, double, double, double>, std::weak_ptr<const Loop>>
+  static std::map<std::tuple<int, int, int, int, double, double, double, bool>,
+                  std::weak_ptr<const Loop>>
       cache;
   std::lock_guard<std::mutex> lock(m);
   const auto key = std::make_tuple(o.subject, width, height, o.cycle_frames, o.motion_deg,
-                                   o.pitch_deg, o.noise_sigma);
+                                   o.pitch_deg, o.noise_sigma, o.turn);
   if (auto hit = cache[key].lock()) return hit;
   const Head head = make_head(o.subject);
   render::Renderer renderer;
@@ -64,7 +80,7 @@ std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, in
   for (int k = 0; k < o.cycle_frames; ++k) {
     const Capture c = simulate_capture(
         head, frame_rig_options(o, width, height, static_cast<std::uint64_t>(k)), renderer);
-    loop->front.push_back(c.front);
+    loop->front.push_back(front_from_side(o, static_cast<std::uint64_t>(k)) ? c.side : c.front);
     loop->side.push_back(c.side);
   }
   cache[key] = loop;
@@ -132,8 +148,13 @@ void SimCameraOptions::check() const {
   if (subject < 0) throw std::invalid_argument("SimCameraOptions: subject must be >= 0");
   if (cycle_frames < 1 || cycle_frames > 240)
     throw std::invalid_argument("SimCameraOptions: cycle_frames must be in 1..240");
-  if (!(std::abs(motion_deg) <= 30))
+  if (!turn && !(std::abs(motion_deg) <= 30))
     throw std::invalid_argument("SimCameraOptions: motion_deg must be in [-30, 30]");
+  if (turn && !(motion_deg >= -90 && motion_deg <= kMaxCameraTurnDeg))
+    throw std::invalid_argument("SimCameraOptions: motion_deg of a turn must be in [-90, 45]");
+  if (turn && (cycle_frames < 2 || pitch_deg != 0 || side))
+    throw std::invalid_argument(
+        "SimCameraOptions: a turn is the front camera's, without a nod, over cycle_frames >= 2");
   if (!(std::abs(pitch_deg) <= 20))
     throw std::invalid_argument("SimCameraOptions: pitch_deg must be in [-20, 20]");
   if (!(noise_sigma >= 0 && noise_sigma <= 20))
@@ -153,7 +174,9 @@ Eigen::Matrix3d sim_head_rotation(const SimCameraOptions& options, std::uint64_t
 capture::RigCalibration sim_camera_rig(const SimCameraOptions& options, int width, int height,
                                        std::uint64_t sequence) {
   options.check();
-  return true_rig(frame_rig_options(options, width, height, sequence));
+  capture::RigCalibration rig = true_rig(frame_rig_options(options, width, height, sequence));
+  if (front_from_side(options, sequence)) rig.front = rig.side;
+  return rig;
 }
 
 std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options) {
@@ -169,11 +192,13 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
   if (!std::regex_match(id, m, re))
     throw std::runtime_error("camera " + id +
                              ": expected sim:N/front or sim:N/side (N = subject number), "
-                             "optionally ?yaw=DEG&pitch=DEG&frames=N&noise=SIGMA");
+                             "optionally ?yaw=DEG&pitch=DEG&frames=N&noise=SIGMA (or turn=DEG "
+                             "instead of yaw)");
   SimCameraOptions o;
   o.subject = std::stoi(m[1]);
   o.side = m[2] == "side";
   const std::string query = m[3];
+  bool motion_set = false;  // yaw= or turn= seen
   for (size_t begin = 0; begin <= query.size();) {
     size_t end = query.find('&', begin);
     if (end == std::string::npos) end = query.size();
@@ -182,9 +207,13 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
     if (item.empty()) continue;
     const size_t eq = item.find('=');
     const std::string key = item.substr(0, eq);
-    if (key != "yaw" && key != "pitch" && key != "frames" && key != "noise")
+    if (key != "yaw" && key != "pitch" && key != "frames" && key != "noise" && key != "turn")
       throw std::runtime_error("camera " + id + ": unknown option '" + key +
-                               "' (expected yaw, pitch, frames or noise)");
+                               "' (expected yaw, turn, pitch, frames or noise)");
+    if (key == "yaw" || key == "turn") {
+      if (motion_set) throw std::runtime_error("camera " + id + ": give one of yaw and turn, once");
+      motion_set = true;
+    }
     const std::string value = eq == std::string::npos ? "" : item.substr(eq + 1);
     double v = 0;
     size_t used = 0;
@@ -197,7 +226,8 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
         (key == "frames" && v != std::floor(v)))
       throw std::runtime_error("camera " + id + ": " + key + " = '" + value + "' is not " +
                                (key == "frames" ? "a whole number" : "a number (degrees)"));
-    if (key == "yaw") o.motion_deg = v;
+    if (key == "yaw" || key == "turn") o.motion_deg = v;
+    if (key == "turn") o.turn = true;
     if (key == "pitch") o.pitch_deg = v;
     if (key == "noise") o.noise_sigma = v;
     if (key == "frames") o.cycle_frames = std::abs(v) < 1e6 ? static_cast<int>(v) : -1;
@@ -206,8 +236,8 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
     o.check();
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error("camera " + id + ": " + e.what() +
-                             " (query keys: yaw = motion_deg, pitch = pitch_deg, frames = "
-                             "cycle_frames, noise = noise_sigma)");
+                             " (query keys: yaw = motion_deg, turn = motion_deg of one turn, "
+                             "pitch = pitch_deg, frames = cycle_frames, noise = noise_sigma)");
   }
   return std::make_unique<SimCamera>(id, o);
 }

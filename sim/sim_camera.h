@@ -17,11 +17,16 @@ namespace orthoface::sim {
 //   yaw   = motion_deg * sin(2 pi k / N)   (turning; > 0 turns the nose toward head +x)
 //   pitch = pitch_deg  * sin(4 pi k / N)   (nodding twice per turn; > 0 lifts the nose, head +y)
 // about the head origin; sim_head_rotation / sim_camera_rig give the truth of each frame.
+// With `turn` the head instead turns once, from frontal to motion_deg (-90 = a full profile
+// showing the side the side camera sees, up to 45 the other way), without nodding:
+//   yaw   = motion_deg * k / (N - 1)   (k = 0 .. N-1, then again from frontal)
+// the one-camera enrolment's subject looking at the camera, then turning; front camera only.
 struct SimCameraOptions {
   int subject = 0;
   bool side = false;         // false: front camera, true: side camera
   int cycle_frames = 12;     // distinct poses rendered at start (then repeated), 1..240
-  double motion_deg = 3;     // head yaw amplitude of the loop, |.| <= 30
+  double motion_deg = 3;     // head yaw amplitude of the loop, |.| <= 30 (-90..45 with turn)
+  bool turn = false;         // one turn from frontal to motion_deg instead of the sine loop
   double pitch_deg = 0;      // head pitch (nod) amplitude of the loop, |.| <= 20
   double noise_sigma = 0;    // Gaussian sensor noise (RigOptions::noise_sigma), 0..20, a new
                              // draw in every frame of the loop
@@ -37,8 +42,9 @@ struct SimCameraOptions {
 // the head origin (sim::PoseError): front yaw_deg = yaw, pitch_deg = pitch; side yaw_deg = yaw,
 // roll_deg = -pitch (the side camera looks along -x, its image x is -z, so the head's pitch is
 // a roll of that camera by -pitch). Project sim::make_head(subject) points through it to find
-// them in the frame whose capture::Frame::sequence is `sequence`. Throws std::invalid_argument
-// on bad options or size.
+// them in the frame whose capture::Frame::sequence is `sequence`. In a turn past -45 degrees
+// the front camera is the side camera's model (which draws that frame: the head turned by -90
+// seen from the side, turned by the rest). Throws std::invalid_argument on bad options or size.
 capture::RigCalibration sim_camera_rig(const SimCameraOptions& options, int width, int height,
                                        std::uint64_t sequence);
 
@@ -58,7 +64,8 @@ std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options
 // Parses "sim:N/front" or "sim:N/side" (N >= 0) and opens it; the camera's name is the id. An
 // optional query sets the motion: "sim:N/front?yaw=25&pitch=15&frames=60&noise=2" (yaw ->
 // motion_deg, pitch -> pitch_deg, frames -> cycle_frames, noise -> noise_sigma; the rest keep
-// their defaults). Throws
+// their defaults); "turn=DEG" instead of yaw plays one turn to DEG (turn = true, motion_deg =
+// DEG): "sim:N/front?turn=-90&frames=46" (not with pitch or on a side camera). Throws
 // std::runtime_error naming the id (and the key) when it does not match, a key is unknown, a
 // value is not a number or is out of range.
 std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id);

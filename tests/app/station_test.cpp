@@ -24,6 +24,7 @@
 
 #include "app/station_http.h"
 #include "sim/sim_camera.h"
+#include "tests/common/free_port.h"
 #include "tests/common/test_data.h"
 
 namespace {
@@ -78,17 +79,7 @@ std::string http_post(int port, const std::string& path) {
   return http_request(port, "POST", path);
 }
 
-int free_port() {
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  inet_pton(AF_INET, "127.0.0.1", &a.sin_addr);
-  bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof(a));
-  socklen_t n = sizeof(a);
-  getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
-  close(fd);
-  return ntohs(a.sin_port);
-}
+using orthoface::testing::free_port;
 
 bool wait_for(int port, const std::string& path, const std::string& needle, double seconds) {
   for (auto t = std::chrono::steady_clock::now();
