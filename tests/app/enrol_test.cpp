@@ -115,7 +115,10 @@ TEST(Enrol, OneWebcamToAModelAndTheLiveStation) {
               enrol_s, front_yaw, side_yaw);
   EXPECT_LE(std::abs(front_yaw), 4.0);
   EXPECT_LE(std::abs(std::abs(side_yaw) - 90), 10.0);
-  EXPECT_EQ(picked["frames_seen"].get<int>(), 46);
+  // A file camera plays at the video's own rate: a slower reader (a sanitizer build) misses a
+  // few frames, never sees more than there are.
+  EXPECT_LE(picked["frames_seen"].get<int>(), 46);
+  EXPECT_GE(picked["frames_seen"].get<int>(), 30);
   for (const char* name : {"front.png", "side.png"})
     EXPECT_FALSE(cv::imread((work / "model/enrol" / name).string()).empty()) << name;
 
