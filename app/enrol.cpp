@@ -50,10 +50,11 @@ Command enrol_command() {
            {"out", true, "DIR  output folder (the reconstruction; the frames in DIR/enrol/)"},
            {"size", true, "WxH  capture size (default: a file's own size, else 640x480)"},
            {"fps", true, "N  capture frame rate (default 30)"},
-           {"duration", true, "S  give up after S seconds (default 60)"},
+           {"duration", true,
+            "S  give up after S seconds of the camera's frames, or of none arriving (default 60)"},
            {"hold", true,
-            "S  stop once the profile has not improved for S seconds (default 2; a file "
-            "ends at its end)"},
+            "S  stop once the profile has not improved for S seconds of the camera's frames "
+            "(default 2; a file ends at its end)"},
            {"output", true, "none|window  where the prompts are shown besides stderr"},
            {"background", true,
             "F  the camera's empty scene (a clean plate of the capture size): the head is cut "
@@ -200,22 +201,28 @@ void Enrolment::run() {
                                 std::to_string(s_.plate.rows) + ", the camera gives " +
                                 std::to_string(s_.width) + "x" + std::to_string(s_.height));
   prompt("look at the camera");
-  const double t0 = capture::monotonic_now_s();
-  double improved_s = t0;
+  // --duration and --hold count the camera's time (its frames' timestamps), so a reader slower
+  // than the camera (a file played while the face detector takes longer than a frame) still
+  // sees the whole turn; without frames, the wall clock since the last one.
+  double first_s = NAN, last_s = NAN, improved_s = NAN;
+  double last_frame_wall = capture::monotonic_now_s();
   std::string ended;
   while (true) {
-    const double now = capture::monotonic_now_s();
-    if (now - t0 > s_.duration_s) {
+    const double camera_s = std::isnan(first_s) ? 0.0 : last_s - first_s;
+    if (camera_s > s_.duration_s || capture::monotonic_now_s() - last_frame_wall > s_.duration_s) {
       ended = "time is up after " + std::to_string(int(s_.duration_s)) + " s";
       break;
     }
-    if (side_.score > 0 && now - improved_s > s_.hold_s) break;
+    if (side_.score > 0 && last_s - improved_s > s_.hold_s) break;
     capture::FrameResult r = camera->next_frame(1.0);
     if (r.status == capture::FrameStatus::Disconnected) {
       ended = r.message;
       break;
     }
     if (r.status != capture::FrameStatus::Ok) continue;
+    last_frame_wall = capture::monotonic_now_s();
+    last_s = r.frame.timestamp_s;
+    if (std::isnan(first_s)) first_s = last_s;
     ++frames_;
     const double yaw = estimated_yaw_deg(r.frame.image);
     if (std::isfinite(yaw) && !(std::abs(yaw) >= std::abs(front_.yaw_deg))) {
@@ -230,7 +237,7 @@ void Enrolment::run() {
       const double score = profile_score(r.frame.image, s_.plate);
       if (score > side_.score) {
         side_ = {r.frame, yaw, score};
-        improved_s = capture::monotonic_now_s();
+        improved_s = r.frame.timestamp_s;
       }
     }
     show(r.frame.image);

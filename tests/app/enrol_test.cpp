@@ -122,6 +122,19 @@ TEST(Enrol, OneWebcamToAModelAndTheLiveStation) {
   for (const char* name : {"front.png", "side.png"})
     EXPECT_FALSE(cv::imread((work / "model/enrol" / name).string()).empty()) << name;
 
+  // The same turn played far faster than it can be read (240 fps, a frame every 4 ms against
+  // the detector's tens of ms): --hold counts the camera's time, so the reader still sees the
+  // turn through to the profile instead of giving up after a frame or two without a better one.
+  const testing::CommandResult fast =
+      run_orthoface("enrol --camera 'file:turn.avi?fps=240' --hold 0.1 --out fast", work);
+  ASSERT_EQ(fast.code, 0) << fast.err;
+  const nlohmann::json fast_picked = read_json(work / "fast/enrol/enrol.json");
+  ASSERT_FALSE(fast_picked.is_discarded());
+  EXPECT_LE(
+      std::abs(std::abs(true_yaw_deg(turn, fast_picked["side"]["sequence"].get<std::uint64_t>())) -
+               90),
+      10.0);
+
   // The folder `orthoface reconstruct` writes: render and eval read it.
   for (const char* name : {"head.obj", "report.json", "front.png", "side.png", "rig.yaml"})
     EXPECT_TRUE(fs::exists(work / "model" / name)) << name;
