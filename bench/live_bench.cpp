@@ -23,6 +23,7 @@
 #include "reconstruct/live_view.h"
 #include "render/image_metrics.h"
 #include "render/renderer.h"
+#include "sim/face_mask.h"
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "sim/sim_camera.h"
@@ -141,15 +142,7 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
     // The face alone: inside the hull of the true landmarks (brows to chin, cheek to cheek).
     const capture::CameraModel truth_camera =
         capture::posed_camera(turned, truth.rotation, truth.translation_mm);
-    std::vector<cv::Point> corners, hull;
-    for (const auto& [name, x] : head.landmarks) {
-      if (name.rfind("ear", 0) == 0 || name == "forehead_top") continue;
-      const Eigen::Vector2d p = capture::project(truth_camera, x);
-      corners.emplace_back(cvRound(p.x()), cvRound(p.y()));
-    }
-    cv::convexHull(corners, hull);
-    cv::Mat face(t.mask.size(), CV_8U, cv::Scalar(0));
-    cv::fillConvexPoly(face, hull, cv::Scalar(255));
+    const cv::Mat face = sim::landmark_hull_mask(head, truth_camera, t.mask.size());
     psnr_face.push_back(render::psnr(t.image, output, face & t.mask));
     if (!out_dir.empty() && k % 40 == 0) {
       // live frame | output | true corrected frame, for a person to look at.

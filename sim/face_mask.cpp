@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
+
+#include <opencv2/imgproc.hpp>
 
 #include "sim/rig.h"
 
@@ -62,6 +65,20 @@ capture::CameraModel true_view_camera(const RigOptions& options, double yaw_rad,
     throw std::invalid_argument("true_view: yaw and pitch must be finite");
   const double distance = options.kind == RigKind::Ideal ? 1000.0 : options.distance_mm;
   return capture::camera_at(rig.front, yaw_rad, pitch_rad, distance);
+}
+
+cv::Mat landmark_hull_mask(const Head& head, const capture::CameraModel& camera, cv::Size size) {
+  std::vector<cv::Point> corners, hull;
+  for (const auto& [name, x] : head.landmarks) {
+    if (name.rfind("ear", 0) == 0 || name == "forehead_top") continue;
+    const Eigen::Vector2d p = capture::project(camera, x);
+    corners.emplace_back(cvRound(p.x()), cvRound(p.y()));
+  }
+  cv::Mat mask(size, CV_8U, cv::Scalar(0));
+  if (corners.size() < 3) return mask;
+  cv::convexHull(corners, hull);
+  cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+  return mask;
 }
 
 }  // namespace orthoface::sim

@@ -22,6 +22,11 @@ std::vector<bool> face_vertices(const Head& head);
 // Throws as face_vertices and render::Renderer::render.
 cv::Mat face_mask(const Head& head, const capture::CameraModel& camera, render::Renderer& renderer);
 
+// CV_8U mask of `size`, 255 inside the convex hull of the head's landmarks seen by `camera`
+// (brows to chin, cheek to cheek: the ears and forehead_top left out), the face as the live
+// benchmarks score it, occlusion not tested.
+cv::Mat landmark_hull_mask(const Head& head, const capture::CameraModel& camera, cv::Size size);
+
 // True when `head` has the landmarks face_vertices needs.
 bool has_face_landmarks(const Head& head);
 

@@ -21,6 +21,7 @@
 
 #include "reconstruct/live_view.h"
 #include "render/image_metrics.h"
+#include "sim/face_mask.h"
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "sim/sim_camera.h"
@@ -213,15 +214,7 @@ TEST(Enrol, OneWebcamToAModelAndTheLiveStation) {
         // head: the cheek, ear and hair the profile photo textures.
         const capture::CameraModel truth_camera =
             capture::posed_camera(turned, truth.rotation, truth.translation_mm);
-        std::vector<cv::Point> corners, hull;
-        for (const auto& [name, x] : head.landmarks) {
-          if (name.rfind("ear", 0) == 0 || name == "forehead_top") continue;
-          const Eigen::Vector2d p = capture::project(truth_camera, x);
-          corners.emplace_back(cvRound(p.x()), cvRound(p.y()));
-        }
-        cv::convexHull(corners, hull);
-        cv::Mat face(t.mask.size(), CV_8U, cv::Scalar(0));
-        cv::fillConvexPoly(face, hull, cv::Scalar(255));
+        const cv::Mat face = sim::landmark_hull_mask(head, truth_camera, t.mask.size());
         psnr[still][0] += render::psnr(t.image, lf.image, t.mask);
         psnr[still][1] += render::psnr(t.image, lf.image, face & t.mask);
         psnr[still][2] += render::psnr(t.image, lf.image, ~face & t.mask);

@@ -503,3 +503,32 @@ TEST(TruthJson, MalformedFilesThrowNamingTheProblem) {
 
 }  // namespace
 }  // namespace orthoface::sim
+
+namespace orthoface::sim {
+namespace {
+
+TEST(LandmarkHullMask, HoldsTheFaceLandmarksAndNotTheEarsOrTheFrame) {
+  const Head head = make_head(1);
+  const RigOptions o;
+  const capture::RigCalibration rig = nominal_rig(o);
+  const cv::Mat mask = landmark_hull_mask(head, rig.front, {o.width, o.height});
+  ASSERT_EQ(mask.size(), cv::Size(o.width, o.height));
+  auto at = [&](const char* name) {
+    const Eigen::Vector2d p = capture::project(rig.front, head.landmarks.at(name));
+    return mask.at<uchar>(int(p.y()), int(p.x()));
+  };
+  EXPECT_EQ(at("nose_tip"), 255);
+  EXPECT_EQ(at("eye_left_center"), 255);
+  EXPECT_EQ(mask.at<uchar>(0, 0), 0);
+  // The face is a small part of the frame, well inside the head's outline.
+  const double share = double(cv::countNonZero(mask)) / mask.total();
+  EXPECT_GT(share, 0.02);
+  EXPECT_LT(share, 0.5);
+  // No landmarks (or all off the image): an empty mask of the size asked.
+  Head bare = head;
+  bare.landmarks.clear();
+  EXPECT_EQ(cv::countNonZero(landmark_hull_mask(bare, rig.front, {64, 48})), 0);
+}
+
+}  // namespace
+}  // namespace orthoface::sim
