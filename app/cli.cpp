@@ -159,23 +159,26 @@ void require_file(const std::string& path, const std::string& what) {
     throw std::runtime_error(what + " " + path + ": not a regular file");
 }
 
-void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width, int height) {
-  for (const char* flag : {"front-background", "side-background"}) {
-    if (!a.has(flag)) continue;
-    const std::string path = a.get(flag), what = std::string("--") + flag;
-    require_file(path, what);
-    cv::Mat plate;
-    try {
-      plate = vision::read_image(path);
-    } catch (const std::runtime_error& e) {
-      throw std::runtime_error(what + ": " + e.what());
-    }
-    if (width > 0 && (plate.cols != width || plate.rows != height))
-      throw std::runtime_error(what + " " + path + ": " + std::to_string(plate.cols) + "x" +
-                               std::to_string(plate.rows) + ", the cameras capture " +
-                               std::to_string(width) + "x" + std::to_string(height));
-    (flag[0] == 'f' ? options.background_front : options.background_side) = plate;
+cv::Mat read_clean_plate(const std::string& path, const std::string& what, int width, int height) {
+  require_file(path, what);
+  cv::Mat plate;
+  try {
+    plate = vision::read_image(path);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(what + ": " + e.what());
   }
+  if (width > 0 && (plate.cols != width || plate.rows != height))
+    throw std::runtime_error(what + " " + path + ": " + std::to_string(plate.cols) + "x" +
+                             std::to_string(plate.rows) + ", the cameras capture " +
+                             std::to_string(width) + "x" + std::to_string(height));
+  return plate;
+}
+
+void read_clean_plates(const Args& a, vision::ObserveOptions& options, int width, int height) {
+  for (const char* flag : {"front-background", "side-background"})
+    if (a.has(flag))
+      (flag[0] == 'f' ? options.background_front : options.background_side) =
+          read_clean_plate(a.get(flag), std::string("--") + flag, width, height);
 }
 
 std::string one_line(const std::string& message) {

@@ -55,6 +55,12 @@ void prepare_output_dir(const std::string& dir, io::FileGroup* group = nullptr);
 // Throws std::runtime_error when `path` is missing or not a regular file; `what` names it.
 void require_file(const std::string& path, const std::string& what);
 
+// One clean plate (a camera's empty scene) from `path`, read as every photo is
+// (vision::read_image); with width > 0 it must be width x height. Throws std::runtime_error
+// naming `what` (the flag) and the file when it is missing, unreadable or of another size.
+cv::Mat read_clean_plate(const std::string& path, const std::string& what, int width = 0,
+                         int height = 0);
+
 // The clean plates (each camera's empty scene) of --front-background / --side-background, when
 // given, into `options`; with width > 0 each must be width x height (the capture size). Throws
 // std::runtime_error naming the flag and file when one is missing, unreadable or of another size.

@@ -88,12 +88,8 @@ Settings settings_from(const Args& a) {
   if (s.output != "none" && s.output != "window")
     throw std::invalid_argument("--output: expected none or window, got '" + s.output + "'");
   s.force = a.has("force");
-  if (a.has("background")) {
-    require_file(a.get("background"), "--background");
-    s.plate = cv::imread(a.get("background"), cv::IMREAD_COLOR);
-    if (s.plate.empty())
-      throw std::runtime_error("--background " + a.get("background") + ": not a readable image");
-  }
+  // Its size is checked once the camera gives its own (a file's may not be known before).
+  if (a.has("background")) s.plate = read_clean_plate(a.get("background"), "--background");
   return s;
 }
 

@@ -54,6 +54,13 @@ std::optional<std::pair<double, double>> run_at(const Inside& is_inside, double 
   return best;
 }
 
+// The front silhouette's run in width at height y and depth z around x_ref.
+std::optional<std::pair<double, double>> width_run_at(const cv::Mat& front,
+                                                      const capture::CameraModel& camera, double y,
+                                                      double z, double x_ref) {
+  return run_at([&](double x) { return inside(front, camera, {x, y, z}); }, x_ref);
+}
+
 // The slice at height y around the reference centre (x_ref, z_ref): the side silhouette's run
 // in depth, then the front silhouette's run in width at that run's middle.
 std::optional<Slice> slice_at(const cv::Mat& front, const cv::Mat& side,
@@ -66,11 +73,7 @@ std::optional<Slice> slice_at(const cv::Mat& front, const cv::Mat& side,
       z_ref);
   if (!depth_run) return std::nullopt;
   const double zc = 0.5 * (depth_run->first + depth_run->second);
-  const auto width_run = run_at(
-      [&](double x) {
-        return inside(front, rig.front, {x, y, zc});
-      },
-      x_ref);
+  const auto width_run = width_run_at(front, rig.front, y, zc, x_ref);
   if (!width_run) return std::nullopt;
   Slice s;
   s.y = y;
@@ -120,11 +123,7 @@ std::vector<Slice> head_slices(const cv::Mat& front, const cv::Mat& side,
   // that shrinks with that width, so the head drawn covers the front photo's whole head.
   for (double y = up.back().y + o.slice_mm; y < mean.y() + kSearchMm; y += o.slice_mm) {
     const Slice& last = up.back();
-    const auto width_run = run_at(
-        [&](double x) {
-          return inside(front, rig.front, {x, y, last.zc});
-        },
-        x_ref);
+    const auto width_run = width_run_at(front, rig.front, y, last.zc, x_ref);
     if (!width_run) break;
     Slice s = last;
     s.y = y;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <string>
@@ -242,6 +243,15 @@ TEST(Enrol, BadInputsAreOneErrorAndLeaveNothing) {
   expect_one_error(
       run_orthoface("enrol --camera sim:1/front --out x --background nothere.png", work),
       "nothere.png");
+  // A file that is not a photo (a DICOM preamble: OpenCV's own reader would abort in GDCM) is
+  // refused as every photo is, with one line naming it.
+  {
+    std::ofstream f(work / "plate.dcm", std::ios::binary);
+    f << std::string(128, '\0') << "DICM" << std::string(16, '\1');
+  }
+  expect_one_error(run_orthoface("enrol --camera sim:1/front --out x --background plate.dcm", work),
+                   "plate.dcm");
+  EXPECT_FALSE(fs::exists(work / "x"));
 
   // A head that never faces the camera (blank frames), then one that never turns far enough.
   cv::VideoWriter blank((work / "blank.avi").string(), cv::VideoWriter::fourcc('M', 'J', 'P', 'G'),
