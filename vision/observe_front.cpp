@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "vision/contour_chain.h"
@@ -195,6 +196,52 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
   if (std::abs(filters_x - mid.x) < tol) ff.centre = filters.centre;
 }
 
+// x of the polyline `jaw` (top to bottom) at row y; NaN outside its rows.
+double polyline_x(const std::vector<cv::Point2d>& jaw, double y) {
+  for (size_t i = 1; i < jaw.size(); ++i) {
+    const cv::Point2d a = jaw[i - 1], b = jaw[i];
+    if (y >= std::min(a.y, b.y) && y <= std::max(a.y, b.y) && b.y != a.y)
+      return a.x + (y - a.y) / (b.y - a.y) * (b.x - a.x);
+  }
+  return std::numeric_limits<double>::quiet_NaN();
+}
+
+// The face's own outline where the head's silhouette is not the face: hair hanging beside the
+// cheeks, a hood or a collar up to the jaw widen the silhouette, and seed 004's slices would
+// take that width as the face's (a flat, wide lower face that shows at every turn). From the
+// cheekbone (iBUG jaw points 1 / 15) to the jaw's corner (5 / 11) a boundary point lying more
+// than 0.12 eye widths outside the network's jaw line moves onto it (the sim heads' jaw line, which
+// lies on their silhouette, stays within that); below the jaw's corner the boundary is
+// kept no wider than there (the neck is narrower than the jaw). Returns how many rows moved.
+int fit_boundary_to_jaw(FrontBoundary& fb, const std::vector<cv::Point2d>& p68) {
+  if (p68.size() != 68) return 0;
+  const cv::Point2d half(0.5, 0.5);
+  const double eyes_w = cv::norm(p68[45] - p68[36]);
+  const double tol = 0.12 * eyes_w, margin = 0.02 * eyes_w;
+  int moved = 0;
+  // Image-left side: jaw points 0..8, outward is -x; image-right: 16..8, outward +x.
+  for (const int outward : {-1, 1}) {
+    std::vector<cv::Point2d> jaw;
+    for (int k = 0; k <= 8; ++k) jaw.push_back(p68[outward < 0 ? k : 16 - k] - half);
+    const double top = jaw[1].y, corner = jaw[5].y;
+    auto& side = outward < 0 ? fb.left : fb.right;
+    double corner_x = std::numeric_limits<double>::quiet_NaN();
+    for (auto& b : side) {
+      if (b.y < top) continue;
+      if (b.y <= corner) {
+        const double jaw_x = polyline_x(jaw, b.y);
+        if (!std::isfinite(jaw_x)) continue;
+        const double limit = jaw_x + outward * margin;
+        if (outward * (b.x - limit) > tol) b.x = limit, ++moved;
+        corner_x = b.x;
+      } else if (std::isfinite(corner_x) && outward * (b.x - corner_x) > 0) {
+        b.x = corner_x, ++moved;
+      }
+    }
+  }
+  return moved;
+}
+
 // The user's front landmarks (options.front_landmarks, capture convention) replace the detected
 // ones, in the features and in `trained` (both the features' true positions, which head-turn
 // estimation and the input check read). When they give a symmetric pair the centre line uses,
@@ -260,6 +307,19 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
     network_landmarks(front, fb, o, ff, trained, obs.front_points68, warn);
   if (!o.front_landmarks.empty()) user_landmarks(o, ff, trained);
   for (const auto& w : ff.warnings) warn.push_back(w);
+  // A cheek (at the nose tip's row, from the boundary) whose row moved onto the jaw line moves
+  // with it.
+  const FrontBoundary silhouette = fb;
+  if (fit_boundary_to_jaw(fb, obs.front_points68) > 0)
+    for (const char* n : {"cheek_right", "cheek_left"}) {
+      auto it = ff.features.find(n);
+      if (it == ff.features.end()) continue;
+      const bool image_left = n[6] == 'r';  // cheek_right lies on the image's left
+      const double y = it->second.px.y, inward = image_left ? 1.0 : -1.0;
+      const double x = boundary_x(image_left ? fb.left : fb.right, y);
+      const double was = boundary_x(image_left ? silhouette.left : silhouette.right, y);
+      if (inward * (x - was) > 0.5 && inward * (x - it->second.px.x) > 0) it->second.px.x = x;
+    }
   for (const auto& p : fb.left) obs.front.boundary.push_back(out_px(p));
   for (const auto& p : fb.right) obs.front.boundary.push_back(out_px(p));
   obs.front.boundary_confidence = fb.confidence;

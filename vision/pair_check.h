@@ -64,7 +64,7 @@ struct PairCheckLimits {
   double min_luma = 35;               // front_luma
   double max_facing_against = 0.8;    // side_facing_against
   double max_height_residual = 0.15;  // height_residual
-  double max_skin_delta_e = 22;       // skin_delta_e
+  double max_skin_delta_e = 28;       // skin_delta_e
   double max_colour_distance = 0.75;  // colour_distance
   void check() const;                 // throws std::invalid_argument on a non-positive limit
 };

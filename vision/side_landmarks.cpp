@@ -131,15 +131,20 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
   const double conf = std::clamp(sp.confidence, 0.0, 1.0);
   const int tip = nose_tip_index(c, H);
   sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
-  // Nasion: deepest point behind the chord from the brow (glabella) to the tip.
+  // Nasion: the deepest point behind the chord from the brow (glabella, the most projecting
+  // point of the band above) to the tip; then the most posterior point within a quarter of its
+  // height over the tip from it (the soft tissue's own dip, where it has one). The most posterior
+  // point of the whole stretch is not it when the head leans forward or the forehead slopes back:
+  // on real photos that was the forehead, 50-65 px above the eyes.
   const int g0 = first_row_at_least(c, c[tip].y - 0.42 * H),
             g1 = first_row_at_least(c, c[tip].y - 0.22 * H);
   const int glabella = argmin_x(c, g0, std::max(g0, g1));
   double depth = 0;
-  deepest_behind_chord(c, glabella, tip, &depth);
-  int nasion = glabella;  // the most posterior point between brow and tip
+  const int chord_deepest = deepest_behind_chord(c, glabella, tip, &depth);
+  const double reach = std::max(3.0, 0.25 * (c[tip].y - c[chord_deepest].y));
+  int nasion = chord_deepest;
   for (int i = glabella; i < tip; ++i)
-    if (c[i].x > c[nasion].x) nasion = i;
+    if (std::abs(c[i].y - c[chord_deepest].y) <= reach && c[i].x > c[nasion].x) nasion = i;
   sp.features["nose_bridge"] =
       make(c[nasion], conf * std::min(1.0, depth / 2.0), "profile-concavity");
   const int under = under_chin(c, tip, H);

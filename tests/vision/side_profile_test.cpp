@@ -50,6 +50,44 @@ TEST(SideProfile, FaceProfileShapeAndFacing) {
   EXPECT_THROW(o.check(), std::invalid_argument);
 }
 
+// A head that leans forward (or a forehead that slopes back): the profile runs forward all the
+// way from the crown to the nose tip, with no point behind the brow, but bends at the nasion
+// (row 110: the forehead's slope above, the nose's below). The nasion is that bend, not the brow
+// band's lowest row (row 86, which the most posterior point after the brow gave).
+TEST(SideProfile, NasionIsTheBendWhenTheHeadLeansForward) {
+  const std::vector<cv::Point> poly = {{150, 20}, {118, 40},  {104, 90},  {100, 110},
+                                       {80, 130}, {96, 142},  {92, 160},  {98, 175},
+                                       {94, 195}, {120, 215}, {160, 218}, {165, 300}};
+  std::vector<cv::Point2d> curve;
+  for (size_t i = 0; i + 1 < poly.size(); ++i) {
+    curve.emplace_back(poly[i]);
+    curve.emplace_back((poly[i] + poly[i + 1]) / 2);
+  }
+  ov::SideProfile sp;
+  sp.curve = ov::resample(curve, 1.0);
+  sp.head_height_px = 200;
+  sp.confidence = 1.0;
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  ASSERT_EQ(sp.features.count("nose_tip"), 1u);
+  EXPECT_NEAR(sp.features.at("nose_tip").px.y, 130, 1.0);
+  ASSERT_EQ(sp.features.count("nose_bridge"), 1u);
+  EXPECT_NEAR(sp.features.at("nose_bridge").px.y, 110, 6.0);
+  // A profile with its own dip behind the brow (the face upright) keeps the dip: row 110.
+  ov::SideProfile upright;
+  std::vector<cv::Point2d> c2;
+  const auto p2 = profile_polygon();
+  for (size_t i = 0; i + 1 < p2.size() && p2[i].y < 300; ++i) {
+    c2.emplace_back(p2[i]);
+    c2.emplace_back((p2[i] + p2[i + 1]) / 2);
+  }
+  upright.curve = ov::resample(c2, 1.0);
+  upright.head_height_px = 200;
+  upright.confidence = 1.0;
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), upright);
+  ASSERT_EQ(upright.features.count("nose_bridge"), 1u);
+  EXPECT_NEAR(upright.features.at("nose_bridge").px.y, 110, 1.5);
+}
+
 // A profile facing image-left with a dark eye blob 30 px behind its edge at row 100: the eye's
 // front / back ends and iris come out at the blob; plain skin or a window off the image gives none.
 TEST(SideEye, FindsTheBlobBehindTheProfileAndNothingOnSkin) {

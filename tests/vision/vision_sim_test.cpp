@@ -94,6 +94,41 @@ TEST(Observe, NearEyeFoundInTheProfile) {
               flipped.cols - capture(0).landmarks.at("eye_left_center").side_px.x(), 3.0);
 }
 
+// Long hair hanging beside the cheeks (or a hood up to the jaw) widens the head's silhouette
+// there; the front boundary, which gives seed 004's slices their width, follows the face's own
+// jaw line instead: at the mouth's row it stays within 0.05 eye widths of where it is without the
+// hair (the hair adds 0.4 eye widths on each side).
+TEST(Observe, FrontBoundaryFollowsTheJawInsideHairBesideTheCheeks) {
+  const sim::Capture& cap = capture(0);
+  const auto& lm = cap.landmarks;
+  const double eyes = lm.at("eye_left_outer").front_px.x() - lm.at("eye_right_outer").front_px.x();
+  const double top = lm.at("nose_tip").front_px.y(), bottom = lm.at("chin_bottom").front_px.y();
+  const double row = lm.at("mouth_left").front_px.y();
+  auto edges_at = [&](const ov::FaceObservation& obs) {
+    double l = 1e9, r = -1e9;
+    for (const auto& p : obs.front.boundary)
+      if (std::abs(p.y - row) < 1.0) l = std::min(l, p.x), r = std::max(r, p.x);
+    return std::make_pair(l, r);
+  };
+  const auto clean = edges_at(ov::observe(cap.front, cap.side));
+  cv::Mat front = cap.front.clone();
+  const cv::Scalar hair(30, 45, 70);  // dark brown
+  for (const double x : {clean.first, clean.second}) {
+    const double out = x < 320 ? -0.4 * eyes : 0.4 * eyes;
+    cv::rectangle(front, cv::Point2d(x - 0.05 * out, top), cv::Point2d(x + out, bottom + 10), hair,
+                  cv::FILLED);
+  }
+  const ov::FaceObservation obs = ov::observe(front, cap.side);
+  const auto edges = edges_at(obs);
+  EXPECT_NEAR(edges.first, clean.first, 0.05 * eyes);
+  EXPECT_NEAR(edges.second, clean.second, 0.05 * eyes);
+  // The cheeks (at the nose tip's row, from the boundary) stay inside the face too.
+  EXPECT_NEAR(obs.front.features.at("cheek_right").px.x, lm.at("cheek_right").front_px.x(),
+              0.06 * eyes);
+  EXPECT_NEAR(obs.front.features.at("cheek_left").px.x, lm.at("cheek_left").front_px.x(),
+              0.06 * eyes);
+}
+
 TEST(Observe, MirroredSideImageIsDetected) {
   const sim::Capture& cap = capture(0);
   cv::Mat flipped;
