@@ -2,6 +2,7 @@
 // tracked in the live front frames, and its turned view re-textured from the live frames where
 // the head is, every frame (the conferencing use). With one camera (--camera, --model) the model
 // is an enrolment's (orthoface enrol) and the side texture its profile photo.
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -185,7 +186,9 @@ class Station {
 
   Settings s_;
   std::unique_ptr<capture::PairCapture> pc_;  // two cameras
-  std::unique_ptr<capture::Camera> camera_;   // or one
+  std::unique_ptr<capture::Camera> camera_;   // or one (null while it is gone)
+  capture::CameraFormat one_format_;          // the one camera's mode, asked again on reopening
+  double next_reopen_ = 0;                    // when to try reopening it next (monotonic s)
   capture::PairStats one_stats_;              // the one camera's counters
   std::vector<double> one_times_;             // its frames' timestamps (the last second's fps)
   std::optional<capture::RigCalibration> rig_;
@@ -200,6 +203,7 @@ class Station {
   std::vector<double> retexture_ms_, draw_ms_, track_ms_;
   int frames_out_ = 0, fits_ = 0, frames_tracked_ = 0, frames_lost_ = 0;
   std::uint64_t last_sequence_ = 0;  // the one camera's last frame
+  bool sequence_known_ = false;      // last_sequence_ is this device instance's
   reconstruct::TrackResult track_;   // the last frame's
   bool was_tracked_ = true;          // the last frame's tracked state (true before the first)
 };
@@ -217,8 +221,9 @@ Station::Station(const Settings& s) : s_(s) {
   rig_ = s_.rig;
   if (s_.model) {
     camera_ = capture::open_camera(s_.camera);
-    camera_->start(
-        capture::choose_format(camera_->formats(), s_.width, s_.height, s_.fps, s_.camera));
+    one_format_ =
+        capture::choose_format(camera_->formats(), s_.width, s_.height, s_.fps, s_.camera);
+    camera_->start(one_format_);
     one_stats_.front_connected = true;
     reconstruct::LiveViewOptions o;
     o.tracking = s_.tracking;
@@ -246,18 +251,56 @@ capture::PairStats Station::stats() const {
 }
 
 bool Station::one_camera_frame() {
-  const capture::FrameResult r = camera_->next_frame(0.25);
+  // A camera that vanished (unplugged, its driver reset) is reopened by id every half second, as
+  // the two-camera station does; a file that ended ends the run (its summary is written).
+  constexpr double kReopenInterval = 0.5;
+  if (!camera_) {
+    const double now = capture::monotonic_now_s();
+    if (now < next_reopen_) {
+      std::this_thread::sleep_for(
+          std::chrono::duration<double>(std::min(0.05, next_reopen_ - now)));
+      return true;
+    }
+    next_reopen_ = now + kReopenInterval;
+    try {
+      auto cam = capture::open_camera(s_.camera);
+      cam->start(one_format_);
+      camera_ = std::move(cam);
+    } catch (const std::exception&) {
+      return true;  // still gone
+    }
+    one_stats_.front_connected = true;
+    ++one_stats_.reconnects;
+    sequence_known_ = false;  // a new device instance counts its frames afresh
+    events_.push_back("camera " + s_.camera + " is back");
+  }
+  capture::FrameResult r;
+  try {
+    r = camera_->next_frame(0.25);
+  } catch (const std::exception& e) {
+    r = {capture::FrameStatus::Disconnected, {}, e.what()};
+  }
   if (r.status == capture::FrameStatus::Disconnected) {
-    // A file that ended or a camera that vanished: the run ends (its summary is written).
-    events_.push_back("camera ended: " + r.message);
     one_stats_.front_connected = false;
     ++one_stats_.disconnects;
-    return false;
+    if (s_.camera.rfind("file:", 0) == 0) {
+      events_.push_back("camera ended: " + r.message);
+      return false;
+    }
+    events_.push_back("camera lost: " + r.message + "; reopening it every 0.5 s");
+    try {
+      camera_->stop();
+    } catch (const std::exception&) {  // a vanished device may refuse even that
+    }
+    camera_.reset();
+    next_reopen_ = capture::monotonic_now_s() + kReopenInterval;
+    return true;
   }
   if (r.status != capture::FrameStatus::Ok) return true;
-  if (one_stats_.frames_front > 0 && r.frame.sequence > last_sequence_ + 1)
+  if (sequence_known_ && r.frame.sequence > last_sequence_ + 1)
     one_stats_.dropped_front += r.frame.sequence - last_sequence_ - 1;
   last_sequence_ = r.frame.sequence;
+  sequence_known_ = true;
   ++one_stats_.frames_front;
   one_times_.push_back(r.frame.timestamp_s);
   if (one_times_.size() > 512)  // only the last second is used
@@ -470,7 +513,7 @@ void Station::write_summary() {
 
 int Station::run() {
   t0_ = capture::monotonic_now_s();
-  if (camera_) {
+  if (s_.model) {  // one camera
     double next_status = t0_;
     while (!g_stop && (s_.duration_s <= 0 || capture::monotonic_now_s() - t0_ < s_.duration_s)) {
       if (http_)
@@ -479,7 +522,7 @@ int Station::run() {
       if (capture::monotonic_now_s() >= next_status) report_status(false), next_status += 0.5;
     }
     report_status(true);
-    camera_->stop();
+    if (camera_) camera_->stop();
     write_summary();
     return 0;
   }

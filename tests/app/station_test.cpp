@@ -404,6 +404,47 @@ TEST(CaptureCommand, ProductionBinaryThroughFakeV4l2) {
 
 // The virtual-webcam output (v4l2:) of the unchanged binary, written to the fake V4L2 device as
 // an output node (v4l2loopback-like); the frames it wrote are read back from the fake's file.
+// One camera (an enrolled model, here a sim pair's reconstruction) on the fake V4L2 webcam,
+// unplugged for 1.5 s in the middle of the run: the station says so, keeps serving, reopens the
+// device when it is back and goes on drawing frames from it until --duration ends.
+TEST(StationCommand, OneCameraComesBackAfterItIsUnplugged) {
+  const auto dir = orthoface::testing::temp_dir("station_one_camera_unplug");
+  ASSERT_EQ(orthoface("simulate --subject 2 --out " + (dir / "sim").string()).code, 0);
+  const std::string sim = (dir / "sim").string();
+  ASSERT_EQ(orthoface("reconstruct --front " + sim + "/front.png --side " + sim +
+                      "/side.png --rig " + sim + "/rig.yaml --out " + (dir / "model").string())
+                .code,
+            0);
+  const std::string env =
+      std::string("LD_PRELOAD=") + FAKE_V4L2_LIB +
+      " ORTHOFACE_FAKE_V4L2=/dev/video42 ORTHOFACE_FAKE_V4L2_CTL=" + dir.string();
+  const fs::path out = dir / "out", unplug = dir / "unplug-video42";
+  // Unplugged 3 s after the station made its output folder (the camera is open by then), for
+  // 1.5 s; the run lasts 10 s.
+  std::thread toggler([&] {
+    for (int i = 0; i < 600 && !fs::exists(out); ++i) std::this_thread::sleep_for(50ms);
+    std::this_thread::sleep_for(3s);
+    std::ofstream(unplug) << "";
+    std::this_thread::sleep_for(1500ms);
+    fs::remove(unplug);
+  });
+  const CmdResult r =
+      orthoface("station --camera /dev/video42 --model " + (dir / "model").string() +
+                    " --duration 10 --out " + out.string(),
+                env);
+  toggler.join();
+  ASSERT_EQ(r.code, 0) << r.output;
+  const auto summary = nlohmann::json::parse(read_text(out / "station_summary.json"));
+  EXPECT_EQ(summary.at("disconnects").get<int>(), 1) << summary.dump(2);
+  EXPECT_EQ(summary.at("reconnects").get<int>(), 1) << summary.dump(2);
+  const auto events = summary.at("events").dump();
+  EXPECT_NE(events.find("camera lost"), std::string::npos) << events;
+  EXPECT_NE(events.find("is back"), std::string::npos) << events;
+  // Frames came before and after the gap: more than the 3 s before it could give at 30 fps.
+  EXPECT_GT(summary.at("frames_front").get<int>(), 100) << summary.dump(2);
+  EXPECT_GT(summary.at("frames_out").get<int>(), 0);
+}
+
 TEST(StationCommand, V4l2OutputWritesFramesToTheFakeOutputDevice) {
   const auto dir = orthoface::testing::temp_dir("station_fake_v4l2_output");
   const fs::path written = dir / "written.frames";
