@@ -86,9 +86,11 @@ struct SynthesisResult {
 // on a new mesh and when asked (ColourUpdate::Recompute, update_colour_match); later photos reuse
 // it.
 struct ColourMatch {
-  std::array<cv::Vec3d, 2> mean{}, stddev{};  // Lab (L 0..100) of the front, side samples
-  int samples = 0;                            // surface points used; < 20 means no change
-  cv::Vec3b fill{128, 128, 128};              // BGR used where no photo sees the surface
+  // Lab (L 0..100) of the front and side samples; the side's mean is the side value mapped onto
+  // the front's mean (colour_match: from the median of the pairs' differences, not the mean).
+  std::array<cv::Vec3d, 2> mean{}, stddev{};
+  int samples = 0;                // surface points used; < 20 means no change
+  cv::Vec3b fill{128, 128, 128};  // BGR used where no photo sees the surface
 };
 
 // Whether set_photos recomputes the colour match from the new photos (about 20 ms of CPU per

@@ -273,6 +273,28 @@ TEST(NewView, EqualisationRemovesABrightnessStepBetweenThePhotos) {
   EXPECT_LT(step[1], 4);
 }
 
+// Two identical cameras, but a dark band (hair, a shadow: pairs that are not the same surface)
+// over a third of the ball in the side photo: the equalisation stays the identity on the rest
+// (the median of the pairs' differences), where matching the means brightened the side photo by
+// the band's pull.
+TEST(NewView, EqualisationIgnoresPairsThatAreNotTheSameSurface) {
+  mesh::TriMesh ball = uv_ellipsoid({0, 0, 0}, {80, 80, 80}, 32, 64);
+  ball.colors.assign(ball.vertices.size(), {0.8, 0.6, 0.5});
+  Scene s = make_scene(ball, capture::ideal_rig(400, 400, 2.0));
+  const cv::Mat clean = s.side.clone();
+  cv::rectangle(s.side, cv::Rect(0, 0, 400, 160), cv::Scalar(25, 30, 40), cv::FILLED);
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  ASSERT_GT(synth.colour_match().samples, 100);
+  const cv::Mat mapped = detail::equalized(s.side, synth.colour_match(), 1);
+  const cv::Rect rest(0, 200, 400, 200);  // below the band, the ball's lower half
+  cv::Mat on_ball;
+  cv::cvtColor(clean(rest), on_ball, cv::COLOR_BGR2GRAY);
+  on_ball = on_ball > 20;
+  ASSERT_GT(cv::countNonZero(on_ball), 5000);
+  const cv::Scalar was = cv::mean(clean(rest), on_ball), now = cv::mean(mapped(rest), on_ball);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(now[k], was[k], 4.0) << "channel " << k;
+}
+
 TEST(NewView, WithoutDepthTheImageAndMaskAreTheSame) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);

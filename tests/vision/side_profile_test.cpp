@@ -20,21 +20,37 @@ std::vector<cv::Point> profile_polygon() {
           {240, 300}, {245, 200}, {255, 120}, {230, 40}};
 }
 
-TEST(SideProfile, FaceProfileShapeAndFacing) {
+// The front profile of `poly` (its points above row 300 and the midpoints after them), at 1 px
+// steps.
+std::vector<cv::Point2d> front_curve(const std::vector<cv::Point>& poly) {
   std::vector<cv::Point2d> curve;
-  const auto poly = profile_polygon();
   for (size_t i = 0; i + 1 < poly.size() && poly[i].y < 300; ++i) {
     curve.emplace_back(poly[i]);
     curve.emplace_back((poly[i] + poly[i + 1]) / 2);
   }
-  EXPECT_TRUE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 200));
+  return ov::resample(curve, 1.0);
+}
+
+// The profile landmarks of `poly`'s front profile, head height 200 px.
+ov::SideProfile landmarks_of(const std::vector<cv::Point>& poly) {
+  ov::SideProfile sp;
+  sp.curve = front_curve(poly);
+  sp.head_height_px = 200;
+  sp.confidence = 1.0;
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  return sp;
+}
+
+TEST(SideProfile, FaceProfileShapeAndFacing) {
+  const auto poly = profile_polygon();
+  EXPECT_TRUE(ov::reads_as_face_profile(front_curve(poly), 200));
   // The back of the head (a smooth arc down to the neck) is no face.
   std::vector<cv::Point2d> back;
   for (int i = 0; i <= 100; ++i)
     back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
   EXPECT_FALSE(ov::reads_as_face_profile(back, 200));
-  EXPECT_FALSE(ov::reads_as_face_profile({}, 200));                      // degenerate input
-  EXPECT_FALSE(ov::reads_as_face_profile(ov::resample(curve, 1.0), 0));  // no head height
+  EXPECT_FALSE(ov::reads_as_face_profile({}, 200));               // degenerate input
+  EXPECT_FALSE(ov::reads_as_face_profile(front_curve(poly), 0));  // no head height
   // The facing cue on the filled blob, also mirrored.
   cv::Mat mask(320, 320, CV_8U, cv::Scalar(0));
   cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{poly}, cv::Scalar(255));
@@ -58,32 +74,13 @@ TEST(SideProfile, NasionIsTheBendWhenTheHeadLeansForward) {
   const std::vector<cv::Point> poly = {{150, 20}, {118, 40},  {104, 90},  {100, 110},
                                        {80, 130}, {96, 142},  {92, 160},  {98, 175},
                                        {94, 195}, {120, 215}, {160, 218}, {165, 300}};
-  std::vector<cv::Point2d> curve;
-  for (size_t i = 0; i + 1 < poly.size(); ++i) {
-    curve.emplace_back(poly[i]);
-    curve.emplace_back((poly[i] + poly[i + 1]) / 2);
-  }
-  ov::SideProfile sp;
-  sp.curve = ov::resample(curve, 1.0);
-  sp.head_height_px = 200;
-  sp.confidence = 1.0;
-  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  const ov::SideProfile sp = landmarks_of(poly);
   ASSERT_EQ(sp.features.count("nose_tip"), 1u);
   EXPECT_NEAR(sp.features.at("nose_tip").px.y, 130, 1.0);
   ASSERT_EQ(sp.features.count("nose_bridge"), 1u);
   EXPECT_NEAR(sp.features.at("nose_bridge").px.y, 110, 6.0);
   // A profile with its own dip behind the brow (the face upright) keeps the dip: row 110.
-  ov::SideProfile upright;
-  std::vector<cv::Point2d> c2;
-  const auto p2 = profile_polygon();
-  for (size_t i = 0; i + 1 < p2.size() && p2[i].y < 300; ++i) {
-    c2.emplace_back(p2[i]);
-    c2.emplace_back((p2[i] + p2[i + 1]) / 2);
-  }
-  upright.curve = ov::resample(c2, 1.0);
-  upright.head_height_px = 200;
-  upright.confidence = 1.0;
-  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), upright);
+  const ov::SideProfile upright = landmarks_of(profile_polygon());
   ASSERT_EQ(upright.features.count("nose_bridge"), 1u);
   EXPECT_NEAR(upright.features.at("nose_bridge").px.y, 110, 1.5);
 }
