@@ -253,7 +253,6 @@ capture::PairStats Station::stats() const {
 bool Station::one_camera_frame() {
   // A camera that vanished (unplugged, its driver reset) is reopened by id every half second, as
   // the two-camera station does; a file that ended ends the run (its summary is written).
-  constexpr double kReopenInterval = 0.5;
   if (!camera_) {
     const double now = capture::monotonic_now_s();
     if (now < next_reopen_) {
@@ -261,14 +260,9 @@ bool Station::one_camera_frame() {
           std::chrono::duration<double>(std::min(0.05, next_reopen_ - now)));
       return true;
     }
-    next_reopen_ = now + kReopenInterval;
-    try {
-      auto cam = capture::open_camera(s_.camera);
-      cam->start(one_format_);
-      camera_ = std::move(cam);
-    } catch (const std::exception&) {
-      return true;  // still gone
-    }
+    next_reopen_ = now + capture::kReopenIntervalS;
+    camera_ = capture::reopen_camera(s_.camera, one_format_);
+    if (!camera_) return true;  // still gone
     one_stats_.front_connected = true;
     ++one_stats_.reconnects;
     sequence_known_ = false;  // a new device instance counts its frames afresh
@@ -287,13 +281,13 @@ bool Station::one_camera_frame() {
       events_.push_back("camera ended: " + r.message);
       return false;
     }
-    events_.push_back("camera lost: " + r.message + "; reopening it every 0.5 s");
+    events_.push_back("camera lost: " + r.message + "; reopening it");
     try {
       camera_->stop();
     } catch (const std::exception&) {  // a vanished device may refuse even that
     }
     camera_.reset();
-    next_reopen_ = capture::monotonic_now_s() + kReopenInterval;
+    next_reopen_ = capture::monotonic_now_s() + capture::kReopenIntervalS;
     return true;
   }
   if (r.status != capture::FrameStatus::Ok) return true;

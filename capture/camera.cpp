@@ -67,6 +67,16 @@ std::unique_ptr<Camera> open_camera(const std::string& id) {
       ": unknown camera id (expected /dev/videoN, libcamera:ID, file:PATH or sim:N)");
 }
 
+std::unique_ptr<Camera> reopen_camera(const std::string& id, const CameraFormat& format) {
+  try {
+    auto cam = open_camera(id);
+    cam->start(format);
+    return cam;
+  } catch (const std::exception&) {
+    return nullptr;
+  }
+}
+
 std::vector<DeviceInfo> list_devices() {
   std::vector<DeviceInfo> all = list_v4l2_devices();
 #ifdef ORTHOFACE_HAVE_LIBCAMERA

@@ -79,6 +79,11 @@ void register_camera_backend(const std::string& prefix, CameraBackend backend);
 // its backend is not available.
 std::unique_ptr<Camera> open_camera(const std::string& id);
 
+// A camera that vanished (unplugged, its driver reset), opened again by `id` and started in
+// `format`; null while it is still gone. Callers retry every kReopenIntervalS.
+std::unique_ptr<Camera> reopen_camera(const std::string& id, const CameraFormat& format);
+inline constexpr double kReopenIntervalS = 0.5;
+
 // All devices of all backends (V4L2 capture nodes, libcamera cameras, registered lists).
 std::vector<DeviceInfo> list_devices();
 

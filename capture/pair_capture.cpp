@@ -160,9 +160,7 @@ struct PairCapture::Impl {
 
 bool PairCapture::Impl::reopen(int k) {
   Cam& c = cams[k];
-  try {
-    auto cam = open_camera(c.id);
-    cam->start(c.format);
+  if (auto cam = reopen_camera(c.id, c.format)) {
     std::lock_guard<std::mutex> lock(m);
     c.camera = std::move(cam);
     c.last_sequence = -1;
@@ -170,12 +168,11 @@ bool PairCapture::Impl::reopen(int k) {
     ++stats.reconnects;
     events.push_back(c.role + " camera " + c.id + " is back");
     return true;
-  } catch (const std::exception&) {
-    std::unique_lock<std::mutex> lock(m);  // still gone: wait, but wake up on stop()
-    cv.wait_for(lock, std::chrono::duration<double>(options.reopen_interval_s),
-                [this] { return !running; });
-    return false;
   }
+  std::unique_lock<std::mutex> lock(m);  // still gone: wait, but wake up on stop()
+  cv.wait_for(lock, std::chrono::duration<double>(options.reopen_interval_s),
+              [this] { return !running; });
+  return false;
 }
 
 void PairCapture::Impl::on_frame(int k, Frame frame) {

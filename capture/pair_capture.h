@@ -13,10 +13,10 @@ namespace orthoface::capture {
 struct PairCaptureOptions {
   int width = 640, height = 480;  // mode asked of both cameras (choose_format)
   double fps = 30;
-  std::string fourcc;              // "" = best offered (MJPG, then YUYV)
-  double max_skew_s = 0.025;       // frames further apart than this never pair
-  double reopen_interval_s = 0.5;  // retry period for a camera that vanished
-  int keep_recent = 8;             // frames / pairs kept for pairing and live view
+  std::string fourcc;                           // "" = best offered (MJPG, then YUYV)
+  double max_skew_s = 0.025;                    // frames further apart than this never pair
+  double reopen_interval_s = kReopenIntervalS;  // retry period for a camera that vanished
+  int keep_recent = 8;                          // frames / pairs kept for pairing and live view
   // Throws std::invalid_argument naming the first bad field.
   void check() const;
 };

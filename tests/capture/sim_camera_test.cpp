@@ -49,6 +49,19 @@ TEST(SimCamera, BadIdsAndModesAreRejected) {
   EXPECT_THROW(open_sim_camera(o), std::invalid_argument);
 }
 
+// reopen_camera: a device that is not there, or a mode it does not offer, gives null (still
+// gone, try again later); one that is there comes back started in the mode asked.
+TEST(SimCamera, ReopenGivesNullWhileGoneAndAStartedCameraWhenBack) {
+  register_sim_cameras();
+  EXPECT_EQ(capture::reopen_camera("sim:x/front", {"BGR3", 640, 480, 30}), nullptr);
+  EXPECT_EQ(capture::reopen_camera("sim:1/side", {"MJPG", 640, 480, 30}), nullptr);
+  auto cam = capture::reopen_camera("sim:1/side", {"BGR3", 640, 480, 30});
+  ASSERT_NE(cam, nullptr);
+  const capture::FrameResult r = cam->next_frame(2.0);
+  EXPECT_EQ(r.status, capture::FrameStatus::Ok);
+  EXPECT_EQ(r.frame.image.cols, 640);
+}
+
 TEST(SimCamera, PairOfSimCamerasHasTheRigPhaseAsSkew) {
   register_sim_cameras();
   capture::PairCaptureOptions o;

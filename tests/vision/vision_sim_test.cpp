@@ -114,7 +114,7 @@ TEST(Observe, FrontBoundaryFollowsTheJawInsideHairBesideTheCheeks) {
   cv::Mat front = cap.front.clone();
   const cv::Scalar hair(30, 45, 70);  // dark brown
   for (const double x : {clean.first, clean.second}) {
-    const double out = x < 320 ? -0.4 * eyes : 0.4 * eyes;
+    const double out = x < cap.front.cols / 2 ? -0.4 * eyes : 0.4 * eyes;
     cv::rectangle(front, cv::Point2d(x - 0.05 * out, top), cv::Point2d(x + out, bottom + 10), hair,
                   cv::FILLED);
   }
