@@ -168,9 +168,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   const judge::FaceJudge judge;
   json res = json::array();
   int found[3] = {0, 0, 0}, views[3] = {0, 0, 0};  // per |yaw|
-  std::vector<double> landmark_err[3];             // per group, all points of all people
-  double landmark_worst[3] = {0, 0, 0};            // per group, the worst point of any person
-  int landmark_missing[3] = {0, 0, 0};             // points vision did not find (or only mirrored)
+  double score_sum[3] = {0, 0, 0};       // the judge's detection confidence (FaceSearch::score)
+  std::vector<double> landmark_err[3];   // per group, all points of all people
+  double landmark_worst[3] = {0, 0, 0};  // per group, the worst point of any person
+  int landmark_missing[3] = {0, 0, 0};   // points vision did not find (or only mirrored)
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
@@ -304,10 +305,13 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
             r["black_fraction_max"] = std::max(r.value("black_fraction_max", 0.0), black);
             if (image.size() != front.size()) ++wrong_size;
           }
-          const auto face = judge.largest_face(image);
+          const judge::FaceSearch looked = judge.search(image);
+          const auto& face = looked.face;
           ++views[k];
+          score_sum[k] += looked.score;
           if (face) ++found[k], ++n_found;
           r["found"][std::to_string(int(yaw))] = bool(face);
+          r["face_score"][std::to_string(int(yaw))] = looked.score;
           if (kYawsDeg[k] == 30) continue;
           cv::Mat img = image.clone();
           draw_points(img, face);
@@ -392,7 +396,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   }
   json out = {{"people", people.size()}, {"reconstructed", reconstructed}, {"results", res}};
   for (int k = 0; k < 3; ++k)
-    out["faces_found"][std::to_string(kYawsDeg[k])] = {{"found", found[k]}, {"views", views[k]}};
+    out["faces_found"][std::to_string(kYawsDeg[k])] = {
+        {"found", found[k]},
+        {"views", views[k]},
+        {"mean_score", views[k] ? score_sum[k] / views[k] : NAN}};
   const char* side_name[2] = {"photographed", "other"};
   for (int s = 0; s < 2; ++s)
     if (nme_n[s] > 0)
@@ -422,6 +429,11 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   out["psnr_side_yaw_vs_side_min"] = psnr_side_min;
   md += cv::format("\nFaces found: +-15 %d/%d, +-30 %d/%d, +-45 %d/%d.\n", found[0], views[0],
                    found[1], views[1], found[2], views[2]);
+  md += cv::format(
+      "Face score (dlib's detection confidence of the best window, a face from 0, floor %.0f), "
+      "mean: +-15 %.3f, +-30 %.3f, +-45 %.3f.\n",
+      judge::kNoFaceScore, views[0] ? score_sum[0] / views[0] : NAN,
+      views[1] ? score_sum[1] / views[1] : NAN, views[2] ? score_sum[2] / views[2] : NAN);
   for (int s = 0; s < 2; ++s)
     if (nme_n[s] > 0)
       md += cv::format(

@@ -1,5 +1,6 @@
 #include "judge/face_judge.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <stdexcept>
 #include <vector>
@@ -32,6 +33,10 @@ FaceJudge::FaceJudge(const std::string& predictor_path) : impl_(std::make_unique
 FaceJudge::~FaceJudge() = default;
 
 std::optional<FaceFound> FaceJudge::largest_face(const cv::Mat& image) const {
+  return search(image).face;
+}
+
+FaceSearch FaceJudge::search(const cv::Mat& image) const {
   if (image.empty()) throw std::invalid_argument("face judge: the image is empty");
   if (image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 1))
     throw std::invalid_argument("face judge: the image must be 8-bit BGR or grey");
@@ -45,18 +50,27 @@ std::optional<FaceFound> FaceJudge::largest_face(const cv::Mat& image) const {
     for (int c = 0; c < grey.cols; ++c) img[r][c] = grey.at<unsigned char>(r, c);
   // One upsampling: faces down to about 40 px wide are found (dlib's examples do the same).
   dlib::pyramid_up(img);
-  const std::vector<dlib::rectangle> faces = impl_->detector(img);
-  if (faces.empty()) return std::nullopt;
+  // Windows down to kNoFaceScore for the score; those at dlib's own threshold (0) are faces.
+  std::vector<dlib::rect_detection> windows;
+  impl_->detector(img, windows, kNoFaceScore);
+  FaceSearch out;
+  std::vector<dlib::rectangle> faces;
+  for (const auto& w : windows) {
+    out.score = std::max(out.score, w.detection_confidence);
+    if (w.detection_confidence >= 0) faces.push_back(w.rect);
+  }
+  if (faces.empty()) return out;
   const dlib::rectangle* best = &faces[0];
   for (const auto& f : faces)
     if (f.area() > best->area()) best = &f;
   const dlib::full_object_detection shape = impl_->predictor(img, *best);
-  FaceFound out;
-  out.faces = int(faces.size());
-  out.box = cv::Rect(int(best->left() / 2), int(best->top() / 2), int(best->width() / 2),
-                     int(best->height() / 2));
+  FaceFound found;
+  found.faces = int(faces.size());
+  found.box = cv::Rect(int(best->left() / 2), int(best->top() / 2), int(best->width() / 2),
+                       int(best->height() / 2));
   for (unsigned k = 0; k < 68 && k < shape.num_parts(); ++k)
-    out.points[k] = cv::Point2d(shape.part(k).x() / 2.0, shape.part(k).y() / 2.0);
+    found.points[k] = cv::Point2d(shape.part(k).x() / 2.0, shape.part(k).y() / 2.0);
+  out.face = found;
   return out;
 }
 

@@ -26,6 +26,16 @@ struct FaceFound {
   int faces = 0;  // faces the detector found (the largest is the one described)
 };
 
+// One look for a face: the largest found (dlib's own threshold, detection confidence >= 0) and
+// the best confidence any window reached down to kNoFaceScore, which stays continuous where
+// "found" flips: a view a little better or worse than the last moves the score, not only the
+// count.
+constexpr double kNoFaceScore = -1.0;
+struct FaceSearch {
+  std::optional<FaceFound> face;
+  double score = kNoFaceScore;  // dlib's detection confidence of the best window, >= kNoFaceScore
+};
+
 // dlib's detector + predictor, loaded once (about 0.5 s: the predictor is 100 MB).
 class FaceJudge {
  public:
@@ -39,6 +49,9 @@ class FaceJudge {
   // own examples run it); none when no face is found. Throws std::invalid_argument on an empty
   // image or another pixel type.
   std::optional<FaceFound> largest_face(const cv::Mat& image) const;
+
+  // The same, with the best detection confidence (FaceSearch). Same errors.
+  FaceSearch search(const cv::Mat& image) const;
 
  private:
   struct Impl;

@@ -87,6 +87,35 @@ TEST_F(Judge, RefusesBadImagesAndAMissingModel) {
   EXPECT_FALSE(judge.largest_face(cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90))));
 }
 
+// The detection score: found faces score at least 0 (dlib's own threshold), a plain image the
+// floor, and the same face half hidden less than whole (it stays continuous where "found" flips).
+TEST_F(Judge, SearchScoresFacesContinuously) {
+  const FaceJudge judge;
+  EXPECT_THROW(judge.search(cv::Mat()), std::invalid_argument);
+  EXPECT_THROW(judge.search(cv::Mat(100, 100, CV_32FC1, cv::Scalar(0))), std::invalid_argument);
+  const FaceSearch plain = judge.search(cv::Mat(240, 320, CV_8UC3, cv::Scalar(90, 90, 90)));
+  EXPECT_FALSE(plain.face);
+  EXPECT_EQ(plain.score, kNoFaceScore);
+  sim::RigOptions ro;
+  ro.px_per_mm = 2.4;
+  render::Renderer renderer;
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(0), ro, renderer);
+  const FaceSearch whole = judge.search(cap.front);
+  ASSERT_TRUE(whole.face);
+  EXPECT_GE(whole.score, 0.0);
+  EXPECT_EQ(whole.face->box, judge.largest_face(cap.front)->box);
+  // The face's lower half painted over with the background's colour.
+  cv::Mat half = cap.front.clone();
+  const cv::Rect& box = whole.face->box;
+  half(cv::Rect(box.x, box.y + box.height / 2, box.width, box.height - box.height / 2) &
+       cv::Rect(0, 0, half.cols, half.rows))
+      .setTo(half.at<cv::Vec3b>(2, 2));
+  const FaceSearch hidden = judge.search(half);
+  std::printf("sim head 0 front: score %.3f whole, %.3f half hidden\n", whole.score, hidden.score);
+  EXPECT_LT(hidden.score, whole.score - 0.2);
+  EXPECT_GT(hidden.score, kNoFaceScore);  // a window below the threshold still counts
+}
+
 // Human-annotated 68 points (300-W's image_0010, a turned head): the judge must agree with
 // people. (The other annotated photo, Einstein with his tongue out, is not found by dlib's
 // detector: it returns a small false face elsewhere, so it cannot serve here.)
