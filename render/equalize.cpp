@@ -138,15 +138,17 @@ void map_lab(cv::Mat& bgr01, const ColourMatch& m, int source) {
     const double gain = channel_gain(m, source, k);
     ch[k].convertTo(ch[k], CV_32F, gain, m.mean[0][k] - gain * m.mean[source][k]);
   }
-  // Lightness below the skin's: the line through the skin's statistics would take dark hair
-  // below black (a side photo lit brighter than the front); the ray from black through the
-  // skin's mean lightness keeps it dark but not crushed, and meets the line at that mean.
+  // Lightness below the skin's: the line through the skin's statistics takes dark hair below
+  // black when its gain is above 1 (a side photo lit brighter than the front) and lifts it to
+  // grey when its intercept at black is above 0 (a gain below 1: a real pair's black hair came out
+  // L 33). The ray from black through the skin's mean lightness keeps black black, scales the
+  // darks as a change of exposure does, and meets the line at that mean.
   const double sm = m.mean[source][0], tm = m.mean[0][0];
   if (sm > 1e-6) {
     cv::Mat source_l;
     cv::extractChannel(lab, source_l, 0);
     const cv::Mat ray = source_l * (tm / sm);
-    ray.copyTo(ch[0], (source_l < sm) & (ray > ch[0]));
+    ray.copyTo(ch[0], source_l < sm);
   }
   cv::merge(ch, lab);
   cv::cvtColor(lab, bgr01, cv::COLOR_Lab2BGR);

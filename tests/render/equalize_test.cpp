@@ -52,6 +52,25 @@ TEST(Equalized, KeepsDarkHairDarkButNotBlack) {
   EXPECT_NEAR(lab.at<cv::Vec3f>(0, 0)[0], 50 + 1.25 * (l - 70), 1.5);
 }
 
+// The skin spreads less in the front photo than in the side (gain 0.67): the statistics' line
+// takes black hair to L 50 - 0.67 * 60 = 10 and near-black to grey; the darks must stay as dark
+// as an exposure change makes them (FRMDB 028's black hair came out L 33).
+TEST(Equalized, KeepsBlackHairBlackWhenTheGainIsBelowOne) {
+  ColourMatch m;
+  m.samples = 100;
+  m.mean = {cv::Vec3d(60, 10, 15), cv::Vec3d(60, 10, 15)};
+  m.stddev = {cv::Vec3d(8, 4, 4), cv::Vec3d(12, 4, 4)};
+  const int levels[] = {0, 10, 25, 40};
+  cv::Mat side(1, 4, CV_8UC3);
+  for (int i = 0; i < 4; ++i) side.at<cv::Vec3b>(0, i) = cv::Vec3b::all(uchar(levels[i]));
+  const cv::Mat out = equalized(side, m, 1);
+  for (int i = 0; i < 4; ++i) {
+    const cv::Vec3b c = out.at<cv::Vec3b>(0, i);
+    // Same skin mean in both photos: the ray from black is the identity below it.
+    EXPECT_NEAR((c[0] + c[1] + c[2]) / 3.0, levels[i], 2.0) << "level " << levels[i];
+  }
+}
+
 TEST(Equalized, TheFrontPhotoAndTooFewSamplesAreLeftAsTheyAre) {
   ColourMatch m = brighter_side();
   const cv::Mat photo(4, 4, CV_8UC3, cv::Scalar(20, 40, 60));
