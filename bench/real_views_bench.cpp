@@ -395,11 +395,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
     res.push_back(r);
   }
   json out = {{"people", people.size()}, {"reconstructed", reconstructed}, {"results", res}};
+  const auto mean_score = [&](int k) { return views[k] ? score_sum[k] / views[k] : NAN; };
   for (int k = 0; k < 3; ++k)
     out["faces_found"][std::to_string(kYawsDeg[k])] = {
-        {"found", found[k]},
-        {"views", views[k]},
-        {"mean_score", views[k] ? score_sum[k] / views[k] : NAN}};
+        {"found", found[k]}, {"views", views[k]}, {"mean_score", mean_score(k)}};
   const char* side_name[2] = {"photographed", "other"};
   for (int s = 0; s < 2; ++s)
     if (nme_n[s] > 0)
@@ -432,8 +431,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   md += cv::format(
       "Face score (dlib's detection confidence of the best window, a face from 0, floor %.0f), "
       "mean: +-15 %.3f, +-30 %.3f, +-45 %.3f.\n",
-      judge::kNoFaceScore, views[0] ? score_sum[0] / views[0] : NAN,
-      views[1] ? score_sum[1] / views[1] : NAN, views[2] ? score_sum[2] / views[2] : NAN);
+      judge::kNoFaceScore, mean_score(0), mean_score(1), mean_score(2));
   for (int s = 0; s < 2; ++s)
     if (nme_n[s] > 0)
       md += cv::format(

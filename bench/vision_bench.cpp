@@ -263,13 +263,13 @@ cv::Mat points_only(const cv::Mat& front, const ov::FaceObservation& obs) {
 }
 
 int frmdb(const std::string& dir, const std::string& outdir) {
-  std::filesystem::create_directories(outdir);
   json res = json::array();
   int complete = 0, total = 0;
   std::vector<std::string> people;
   for (const auto& e : std::filesystem::directory_iterator(dir))
     if (e.is_directory()) people.push_back(e.path().filename().string());
   std::sort(people.begin(), people.end());
+  std::filesystem::create_directories(outdir);  // only once the input folder was read
   // observe() per pair, wall ms, after one warm-up pair (the first call decodes dlib's detector
   // and reads the network's weights): what a station's refit from real photos spends in vision.
   std::vector<double> observe_ms;
@@ -281,7 +281,10 @@ int frmdb(const std::string& dir, const std::string& outdir) {
     json r = {{"subject", p}};
     try {
       const cv::Mat front = ov::read_image(f), side = ov::read_image(s);
-      if (!warm) ov::observe(front, side), warm = true;
+      if (!warm) {
+        ov::observe(front, side);
+        warm = true;
+      }
       const auto t0 = std::chrono::steady_clock::now();
       const ov::FaceObservation obs = ov::observe(front, side);
       const double ms =

@@ -139,10 +139,11 @@ void map_lab(cv::Mat& bgr01, const ColourMatch& m, int source) {
     ch[k].convertTo(ch[k], CV_32F, gain, m.mean[0][k] - gain * m.mean[source][k]);
   }
   // Lightness below the skin's: the line through the skin's statistics takes dark hair below
-  // black when its gain is above 1 (a side photo lit brighter than the front) and lifts it to
-  // grey when its intercept at black is above 0 (a gain below 1: a real pair's black hair came out
-  // L 33). The ray from black through the skin's mean lightness keeps black black, scales the
-  // darks as a change of exposure does, and meets the line at that mean.
+  // black when gain x the side's skin mean exceeds the front's (a side photo lit brighter than
+  // the front) and lifts black to grey when it falls short (a gain below 1 with skins alike: a
+  // real pair's black hair came out L 33). The ray from black through the skin's mean lightness
+  // keeps black black, scales the darks as a change of exposure does, and meets the line at that
+  // mean.
   const double sm = m.mean[source][0], tm = m.mean[0][0];
   if (sm > 1e-6) {
     cv::Mat source_l;
