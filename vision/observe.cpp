@@ -84,8 +84,17 @@ struct SideResult {
   double seen_confidence = 0;
 };
 
-// The side photo's foreground probability and head blob: they need nothing from the front view,
-// so observe() computes them while it segments the front.
+// Where a photo's face is searched: around its head blob (a fifth of the blob's size beyond it
+// on each side), or the whole photo when there is no blob.
+cv::Rect search_area(const cv::Mat& mask) {
+  if (mask.empty() || cv::countNonZero(mask) == 0) return {};
+  const cv::Rect b = cv::boundingRect(mask);
+  const int mx = b.width / 5, my = b.height / 5;
+  return cv::Rect(b.x - mx, b.y - my, b.width + 2 * mx, b.height + 2 * my) &
+         cv::Rect(0, 0, mask.cols, mask.rows);
+}
+
+// The side photo's foreground probability and head blob: they need nothing from the front view.
 struct SideBlob {
   cv::Mat prob, mask;
   int blobs = 0;
@@ -250,12 +259,14 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // The front blob first: its head width bounds the side view's head height from below (a head
   // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
   // underestimates. A hood or collar widening the blob below the head does not count.
-  // The two photos' segmentations are independent: the side's runs on a second thread.
-  std::future<SideBlob> side_seg =
-      std::async(std::launch::async, side_blob, std::cref(side), std::cref(bgs));
-  // The face the side photo shows, if any (dlib's detector reaches about 60 degrees).
+  // The face the side photo shows, if any (dlib's detector reaches about 60 degrees), is the
+  // longest single step: it runs on a second thread while this one segments both photos and
+  // finds the front photo's face where its head is. The side's search covers the whole photo:
+  // the input check's limits (vision/pair_check.h) were set on those scores.
   std::future<FoundFace> side_face = std::async(std::launch::async, find_face, std::cref(side));
   const FrontHead head = segment_front(front, bgf);
+  const FrontFace front_face = find_front_face(front, o, search_area(head.mask));
+  const SideBlob side_head = side_blob(side, bgs);
   const double row_scale = double(front.rows) / side.rows;
   const double min_h = head.mask.empty()
                            ? 0.0
@@ -267,7 +278,6 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   SideCamera cam = o.side_camera;
   if (cam == SideCamera::Auto && std::abs(obs.side_face.turn) >= kClearSideTurn)
     cam = obs.side_face.turn < 0 ? SideCamera::Left : SideCamera::Right;
-  const SideBlob side_head = side_seg.get();
   obs.front_blob = head.mask;
   obs.side_blob = side_head.mask;
   const SideResult s = observe_side(side, side_head, cam, min_h, obs.warnings);
@@ -279,7 +289,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   obs.side_seen_faces_left = s.seen_faces_left;
   obs.side_seen_confidence = s.seen_confidence;
   obs.side_camera_given = o.side_camera != SideCamera::Auto;
-  observe_front(front, bgf, head, s.profile, row_scale, o, obs);
+  observe_front(front, bgf, head, front_face, s.profile, row_scale, o, obs);
   for (const auto& p : s.profile.curve) obs.side.boundary.push_back(out_px(p));
   obs.side.boundary_confidence = s.profile.confidence;
   for (const auto& [n, f] : s.profile.features) {
@@ -304,7 +314,8 @@ FaceObservation observe_front(const cv::Mat& front_in, const ObserveOptions& o) 
   obs.front.width = front.cols, obs.front.height = front.rows;
   const FrontHead head = segment_front(front, bgf);
   obs.front_blob = head.mask;
-  observe_front(front, bgf, head, SideProfile{}, 1.0, o, obs);
+  observe_front(front, bgf, head, find_front_face(front, o, search_area(head.mask)), SideProfile{},
+                1.0, o, obs);
   return obs;
 }
 

@@ -126,8 +126,9 @@ cv::Rect2d face_guess(const FrontBoundary& fb) {
 // the centre line by the one through its symmetric pairs; under Consensus, keeps the filters'
 // midline and every filters' point the network confirms (see FrontLandmarker). Leaves `ff` as it
 // was (with a warning) when the weights cannot be read or no plausible face is found.
-void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const ObserveOptions& o,
-                       FrontFeatures& ff, std::map<std::string, Feature2d>& trained,
+void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const FrontFace& face,
+                       const ObserveOptions& o, FrontFeatures& ff,
+                       std::map<std::string, Feature2d>& trained,
                        std::vector<cv::Point2d>& points68, std::vector<std::string>& warn) {
   const FaceLandmarker68* net = shared_landmarker();
   if (!net) {
@@ -135,9 +136,8 @@ void network_landmarks(const cv::Mat& front, const FrontBoundary& fb, const Obse
                    "); the filters' features are used");
     return;
   }
-  std::optional<FaceLandmarks68> found;
+  std::optional<FaceLandmarks68> found = face.found;
   try {
-    found = net->detect(front, o.haar_dir, 3);
     if (!found) found = net->detect_in(front, face_guess(fb), 6);
   } catch (const std::invalid_argument&) {  // a silhouette too thin to hold a face crop
     warn.push_back(
@@ -271,9 +271,23 @@ FrontHead segment_front(const cv::Mat& front, const cv::Mat& bg) {
   return h;
 }
 
+FrontFace find_front_face(const cv::Mat& front, const ObserveOptions& o, const cv::Rect& within) {
+  if (front.empty() || front.type() != CV_8UC3)
+    throw std::invalid_argument("front face: the front photo must be a non-empty 8-bit BGR image");
+  FrontFace f;
+  const FaceLandmarker68* net = shared_landmarker();
+  if (!net || o.landmarker == FrontLandmarker::Filters) return f;
+  try {
+    if (const auto box = haar_face(front, o.haar_dir, false, within))
+      f.found = net->detect_in(front, cv::Rect2d(*box), 3);
+  } catch (const std::invalid_argument&) {  // no crop to refine: observe_front() tries its own
+  }
+  return f;
+}
+
 void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& head,
-                   const SideProfile& sp, double row_scale, const ObserveOptions& o,
-                   FaceObservation& obs) {
+                   const FrontFace& face, const SideProfile& sp, double row_scale,
+                   const ObserveOptions& o, FaceObservation& obs) {
   auto& warn = obs.warnings;
   const cv::Mat& prob = head.probability;
   const cv::Mat& mask = head.mask;
@@ -304,7 +318,7 @@ void observe_front(const cv::Mat& front, const cv::Mat& bg, const FrontHead& hea
   if (o.use_haar && o.landmarker != FrontLandmarker::Network) haar_assist(front, o, ff, warn);
   std::map<std::string, Feature2d> trained;
   if (o.landmarker != FrontLandmarker::Filters)
-    network_landmarks(front, fb, o, ff, trained, obs.front_points68, warn);
+    network_landmarks(front, fb, face, o, ff, trained, obs.front_points68, warn);
   if (!o.front_landmarks.empty()) user_landmarks(o, ff, trained);
   for (const auto& w : ff.warnings) warn.push_back(w);
   // A cheek (at the nose tip's row, from the boundary) whose row moved onto the jaw line moves

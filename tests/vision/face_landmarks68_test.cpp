@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "tests/common/test_data.h"
 #include "vision/observe.h"
@@ -59,6 +60,42 @@ TEST(FaceLandmarks68, BadImagesAndCropsAreRefused) {
   EXPECT_THROW(net.in_crop(grey, {NAN, 0, 50, 50}), std::invalid_argument);
   EXPECT_FALSE(net.detect(grey, kHaar));                       // no face
   EXPECT_NO_THROW(net.in_crop(grey, {-100, -100, 400, 400}));  // outside the image: zero padding
+}
+
+// The network sees only its crop: the same crop of a photo placed inside a larger canvas (zeros
+// around it, or its own edge reflected, which the pre-shrink blur sees anyway) gives the same
+// points, once moved back by the canvas offset; a crop reaching outside the photo sees zeros.
+TEST(FaceLandmarks68, ACropSeesOnlyItsPartOfThePhoto) {
+  const FaceLandmarker68 net;
+  cv::Mat photo(260, 300, CV_8UC3);
+  cv::theRNG().state = 7;
+  cv::randu(photo, cv::Scalar::all(0), cv::Scalar::all(255));
+  cv::GaussianBlur(photo, photo, cv::Size(), 3.0);
+  auto moved_back = [](std::array<cv::Point2d, 68> p, cv::Point2d offset) {
+    for (auto& q : p) q -= offset;
+    return p;
+  };
+  auto max_gap = [](const std::array<cv::Point2d, 68>& a, const std::array<cv::Point2d, 68>& b) {
+    double g = 0;
+    for (int k = 0; k < 68; ++k) g = std::max(g, cv::norm(a[k] - b[k]));
+    return g;
+  };
+  cv::Mat zeros, reflected;
+  cv::copyMakeBorder(photo, zeros, 50, 40, 70, 30, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  cv::copyMakeBorder(photo, reflected, 100, 100, 100, 100, cv::BORDER_REFLECT_101);
+  const cv::Rect2d outside(-40, -30, 200, 200);  // no pre-shrink blur (112 / 200 > 0.5)
+  EXPECT_LT(max_gap(net.in_crop(photo, outside),
+                    moved_back(net.in_crop(zeros, outside + cv::Point2d(70, 50)), {70, 50})),
+            0.1);
+  const cv::Rect2d inside(20, 10, 250, 250);  // blurred before shrinking (112 / 250 < 0.5)
+  EXPECT_LT(max_gap(net.in_crop(photo, inside),
+                    moved_back(net.in_crop(reflected, inside + cv::Point2d(100, 100)), {100, 100})),
+            0.1);
+  // A crop wholly outside the photo sees only zeros: the same as a black photo.
+  EXPECT_LT(
+      max_gap(net.in_crop(photo, {400, 400, 120, 120}),
+              net.in_crop(cv::Mat(260, 300, CV_8UC3, cv::Scalar::all(0)), {400, 400, 120, 120})),
+      1e-6);
 }
 
 // A photo annotated by people (300-W image_0010, a turned head): the network's points against

@@ -1,5 +1,6 @@
 // observe() against the sim rig's ground truth (ideal rig, 640x480) and on bad input.
 #include <filesystem>
+#include <future>
 #include <iostream>
 #include <stdexcept>
 
@@ -9,9 +10,11 @@
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "tests/vision/sim_eval.h"
+#include "vision/face_landmarks68.h"
 #include "vision/haar_init.h"
 #include "vision/landmarks.h"
 #include "vision/observe.h"
+#include "vision/observe_front.h"
 
 namespace ov = orthoface::vision;
 namespace sim = orthoface::sim;
@@ -295,6 +298,58 @@ TEST(Observe, FrontViewAlone) {
       ov::observe_front(cv::Mat(240, 320, CV_8UC3, cv::Scalar(70, 70, 70)));
   EXPECT_TRUE(none.front.boundary.empty());
   EXPECT_FALSE(none.warnings.empty());
+}
+
+// The cascade searches only where it is told, gives each of several threads a classifier of its
+// own (the same answer as one thread alone), and refuses what is not a BGR photo.
+TEST(Haar, SearchesWithinAnAreaAndFromSeveralThreads) {
+  const std::string dir = "/usr/share/opencv4/haarcascades";
+  if (!std::filesystem::exists(dir + "/haarcascade_frontalface_default.xml"))
+    GTEST_SKIP() << "opencv-data cascades not installed";
+  const sim::Capture& cap = capture(1);  // a sim face the cascade finds
+  const auto alone = ov::haar_face(cap.front, dir, false);
+  ASSERT_TRUE(alone);
+  const auto& tip = cap.landmarks.at("nose_tip").front_px;
+  EXPECT_TRUE(alone->contains(cv::Point(int(tip.x()), int(tip.y()))));
+  std::vector<std::future<std::optional<cv::Rect>>> runs;
+  for (int i = 0; i < 4; ++i)
+    runs.push_back(
+        std::async(std::launch::async, [&] { return ov::haar_face(cap.front, dir, false); }));
+  for (auto& r : runs) EXPECT_EQ(r.get(), alone);
+  // Around the face: found again, where it was. Smaller than the smallest face searched (a fifth
+  // of 480 px), or outside the photo: none.
+  const cv::Rect around(alone->x - alone->width / 2, alone->y - alone->height / 2, 2 * alone->width,
+                        2 * alone->height);
+  const auto again = ov::haar_face(cap.front, dir, false, around);
+  ASSERT_TRUE(again);
+  EXPECT_GT(double((*again & *alone).area()) / (*again | *alone).area(), 0.5);
+  EXPECT_FALSE(ov::haar_face(cap.front, dir, false, cv::Rect(alone->tl(), cv::Size(60, 60))));
+  EXPECT_FALSE(ov::haar_face(cap.front, dir, false, cv::Rect(-500, -500, 100, 100)));
+  EXPECT_THROW(ov::haar_face(cv::Mat(), dir, false), std::invalid_argument);
+  EXPECT_THROW(ov::haar_face(cv::Mat(240, 320, CV_8UC1, cv::Scalar(80)), dir, false),
+               std::invalid_argument);
+  EXPECT_THROW(ov::haar_eyes(cv::Mat(), cv::Rect(0, 0, 10, 10), dir), std::invalid_argument);
+}
+
+// The front photo's face, before the silhouette: the network's points near the true eyes when
+// the cascade finds the face, none under the filters-only landmarker or away from the face, an
+// error for no photo.
+TEST(Observe, FrontFaceIsFoundFromThePhotoAlone) {
+  const sim::Capture& cap = capture(1);  // a sim face the cascade finds
+  ov::ObserveOptions o;
+  o.landmarker = ov::FrontLandmarker::Filters;
+  EXPECT_FALSE(ov::find_front_face(cap.front, o).found);
+  o.landmarker = ov::FrontLandmarker::Network;
+  if (!ov::shared_landmarker()) GTEST_SKIP() << "no landmark network weights";
+  const ov::FrontFace f = ov::find_front_face(cap.front, o);
+  ASSERT_TRUE(f.found);
+  const auto& truth = cap.landmarks.at("eye_right_center").front_px;  // image left
+  const cv::Point2d eye = (f.found->points[36] + f.found->points[39]) * 0.5;
+  const double iod = (cap.landmarks.at("eye_left_center").front_px - truth).norm();
+  EXPECT_LT(std::hypot(eye.x - truth.x(), eye.y - truth.y()) / iod, 0.15);
+  EXPECT_FALSE(ov::find_front_face(cap.front, o, cv::Rect(0, 0, 120, 120)).found);
+  EXPECT_THROW(ov::find_front_face(cv::Mat(), o), std::invalid_argument);
+  EXPECT_THROW(ov::find_front_face(cv::Mat(100, 100, CV_8UC1), o), std::invalid_argument);
 }
 
 TEST(Haar, FrontalFaceOnSimAndMissingCascades) {
