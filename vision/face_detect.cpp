@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include <dlib/image_processing/frontal_face_detector.h>
+#include <dlib/image_transforms/image_pyramid.h>
 #include <opencv2/imgproc.hpp>
 
 #include "vision/face_landmarks68.h"
@@ -23,7 +25,10 @@ const dlib::frontal_face_detector& decoded_detector() {
 
 }  // namespace
 
-std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score) {
+std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score, int coarser_levels) {
+  if (coarser_levels < 0 || coarser_levels > 8)
+    throw std::invalid_argument("face detector: coarser_levels must be in [0, 8], got " +
+                                std::to_string(coarser_levels));
   if (image.empty()) throw std::invalid_argument("face detector: the image is empty");
   if (image.depth() != CV_8U || (image.channels() != 3 && image.channels() != 1))
     throw std::invalid_argument("face detector: the image must be 8-bit BGR or grey");
@@ -39,15 +44,25 @@ std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score) {
   dlib::array2d<unsigned char> img(scaled.rows, scaled.cols);
   for (int r = 0; r < scaled.rows; ++r)
     std::copy_n(scaled.ptr<unsigned char>(r), scaled.cols, &img[r][0]);
+  // The detector's image pyramid (each level 5/6 of the one before) without its finest levels:
+  // the same levels, so the same scores, for every face they hold.
+  using Pyramid = dlib::pyramid_down<6>;
+  const Pyramid pyramid;
+  for (int k = 0; k < coarser_levels; ++k) {
+    dlib::array2d<unsigned char> down;
+    pyramid(img, down);
+    if (down.nr() < 80 || down.nc() < 80) return {};  // smaller than the detector's window
+    dlib::swap(img, down);
+  }
   // Each caller its own copy (cheap): the detector keeps scratch buffers.
   dlib::frontal_face_detector detector = decoded_detector();
   std::vector<dlib::rect_detection> found;
   detector(img, found, min_score);
   std::vector<DetectedFace> faces;
   for (const auto& d : found) {
-    const dlib::rectangle& b = d.rect;
+    const dlib::drectangle b = pyramid.rect_up(dlib::drectangle(d.rect), coarser_levels);
     faces.push_back(
-        {cv::Rect2d(b.left() / scale, b.top() / scale, (b.width()) / scale, (b.height()) / scale),
+        {cv::Rect2d(b.left() / scale, b.top() / scale, b.width() / scale, b.height() / scale),
          d.detection_confidence});
   }
   std::sort(faces.begin(), faces.end(),
@@ -62,8 +77,8 @@ double turn_index(cv::Point2d left, cv::Point2d right, cv::Point2d tip) {
   return (tip - (left + right) * 0.5).dot(axis) / half;
 }
 
-FoundFace find_face(const cv::Mat& image) {
-  const std::vector<DetectedFace> faces = detect_faces(image);
+FoundFace find_face(const cv::Mat& image, int coarser_levels) {
+  const std::vector<DetectedFace> faces = detect_faces(image, 0.0, coarser_levels);
   FoundFace out;
   const DetectedFace* widest = nullptr;
   for (const auto& f : faces)

@@ -62,6 +62,10 @@ constexpr double kHeightPerWidth = 1.25;  // crown-to-chin height / head width, 
 // A side photo's face turned at least this much (turn index, about 20 degrees) says which way
 // the profile looks.
 constexpr double kClearSideTurn = 0.3;
+// The side photo's face is searched from about a fifth of its shorter side (1/7 x 1.2^2) up, in
+// half the time of a search from 1/7; the faces of that size score as in the full search the
+// input check's limits were set on.
+constexpr int kSideFaceCoarserLevels = 2;
 
 // Index coordinates -> capture convention (pixel centre = index + 0.5).
 cv::Point2d out_px(cv::Point2d p) { return p + cv::Point2d(0.5, 0.5); }
@@ -140,6 +144,30 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
   }
   for (const auto& w : r.profile.warnings) warn.push_back(w);
   return r;
+}
+
+// Everything observe() learns from the side photo alone, and its profile once the front blob
+// gives the least head height (`min_h`).
+struct SideWork {
+  SideBlob blob;
+  FoundFace face;
+  SideCamera camera = SideCamera::Auto;  // as given, or as the face found decided
+  SideResult result;
+  std::vector<std::string> warnings;
+};
+SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
+                   std::shared_future<double> min_h) {
+  SideWork w;
+  w.blob = side_blob(side, bg);
+  w.face = find_face(side, kSideFaceCoarserLevels);
+  // A face found in the side photo points the way the profile looks (its nose toward the image
+  // left: turn index < 0): with --side-camera auto a clear turn decides, before the silhouette's
+  // cues, which a skin-only blob (hair as dark as the background) can mislead.
+  w.camera = given;
+  if (given == SideCamera::Auto && std::abs(w.face.turn) >= kClearSideTurn)
+    w.camera = w.face.turn < 0 ? SideCamera::Left : SideCamera::Right;
+  w.result = observe_side(side, w.blob, w.camera, min_h.get(), w.warnings);
+  return w;
 }
 
 // Ear of the side camera's side from a position model relative to the nose tip (seed 004 §4
@@ -256,32 +284,35 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   FaceObservation obs;
   obs.front.width = front.cols, obs.front.height = front.rows;
   obs.side.width = side.cols, obs.side.height = side.rows;
-  // The front blob first: its head width bounds the side view's head height from below (a head
-  // is about 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
+  // The side photo's work (its segmentation, the face it shows, its profile) runs on a second
+  // thread while this one segments the front and finds its face. The profile waits for the front
+  // blob only: its head width bounds the side view's head height from below (a head is about
+  // 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
   // underestimates. A hood or collar widening the blob below the head does not count.
-  // The face the side photo shows, if any (dlib's detector reaches about 60 degrees), is the
-  // longest single step: it runs on a second thread while this one segments both photos and
-  // finds the front photo's face where its head is. The side's search covers the whole photo:
-  // the input check's limits (vision/pair_check.h) were set on those scores.
-  std::future<FoundFace> side_face = std::async(std::launch::async, find_face, std::cref(side));
-  const FrontHead head = segment_front(front, bgf);
-  const FrontFace front_face = find_front_face(front, o, search_area(head.mask));
-  const SideBlob side_head = side_blob(side, bgs);
   const double row_scale = double(front.rows) / side.rows;
-  const double min_h = head.mask.empty()
-                           ? 0.0
-                           : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
-  obs.side_face = side_face.get();
-  // A face found in the side photo points the way the profile looks (its nose toward the image
-  // left: turn index < 0): with --side-camera auto a clear turn decides, before the silhouette's
-  // cues, which a skin-only blob (hair as dark as the background) can mislead.
-  SideCamera cam = o.side_camera;
-  if (cam == SideCamera::Auto && std::abs(obs.side_face.turn) >= kClearSideTurn)
-    cam = obs.side_face.turn < 0 ? SideCamera::Left : SideCamera::Right;
+  std::promise<double> min_h_promise;
+  std::future<SideWork> side_task =
+      std::async(std::launch::async, side_work, std::cref(side), std::cref(bgs), o.side_camera,
+                 min_h_promise.get_future().share());
+  FrontHead head;
+  try {
+    head = segment_front(front, bgf);
+    min_h_promise.set_value(
+        head.mask.empty() ? 0.0
+                          : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale);
+  } catch (...) {  // the side's thread must not wait for it
+    min_h_promise.set_exception(std::current_exception());
+    throw;
+  }
+  const FrontFace front_face = find_front_face(front, o, search_area(head.mask));
+  SideWork side_done = side_task.get();
+  obs.side_face = side_done.face;
   obs.front_blob = head.mask;
-  obs.side_blob = side_head.mask;
-  const SideResult s = observe_side(side, side_head, cam, min_h, obs.warnings);
-  if (cam != o.side_camera && s.seen_faces_left != s.faces_left && s.seen_confidence >= 0.3)
+  obs.side_blob = side_done.blob.mask;
+  for (auto& w : side_done.warnings) obs.warnings.push_back(std::move(w));
+  const SideResult& s = side_done.result;
+  if (side_done.camera != o.side_camera && s.seen_faces_left != s.faces_left &&
+      s.seen_confidence >= 0.3)
     obs.warnings.push_back(
         "side view: the face found in it looks the other way than the silhouette suggests; "
         "the face decided (give --side-camera left|right to say)");

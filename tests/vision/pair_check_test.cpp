@@ -100,6 +100,32 @@ TEST_F(SimPair, OneSureFaceInTheFrontPhotoTwoInTwoFronts) {
   EXPECT_EQ(detect_faces(two).size(), 2u);
 }
 
+// Leaving out the finest pyramid levels keeps the scores and, within a pixel, the boxes of the
+// faces they hold, and loses the faces smaller than them.
+TEST_F(SimPair, CoarserLevelsKeepTheLargeFacesScores) {
+  const std::vector<DetectedFace> full = detect_faces(cap_->front);
+  const std::vector<DetectedFace> coarse = detect_faces(cap_->front, 0.0, 2);
+  ASSERT_EQ(full.size(), 1u);
+  ASSERT_EQ(coarse.size(), 1u);
+  EXPECT_DOUBLE_EQ(coarse[0].score, full[0].score);
+  EXPECT_NEAR(coarse[0].box.x, full[0].box.x, 1.5);
+  EXPECT_NEAR(coarse[0].box.width, full[0].box.width, 1.5);
+  // The face at a quarter of its size (on a canvas as large) is below a fifth of the shorter side:
+  // the full search finds it, the coarser one does not.
+  cv::Mat canvas(cap_->front.size(), CV_8UC3, cv::Scalar(120, 130, 140)), quarter;
+  cv::resize(cap_->front, quarter, cv::Size(), 0.25, 0.25, cv::INTER_AREA);
+  quarter.copyTo(canvas(cv::Rect(cv::Point(0, 0), quarter.size())));
+  const std::vector<DetectedFace> small = detect_faces(canvas);
+  ASSERT_EQ(small.size(), 1u);
+  ASSERT_LT(small[0].box.width, canvas.rows / 7.0 * 1.44);
+  EXPECT_TRUE(detect_faces(canvas, 0.0, 2).empty());
+  EXPECT_THROW(detect_faces(cap_->front, 0.0, -1), std::invalid_argument);
+  EXPECT_THROW(detect_faces(cap_->front, 0.0, 9), std::invalid_argument);
+  EXPECT_THROW(find_face(cap_->front, -1), std::invalid_argument);
+  // Levels beyond the photo's size: none, no error.
+  EXPECT_TRUE(detect_faces(cv::Mat(120, 160, CV_8UC3, cv::Scalar::all(90)), 0.0, 8).empty());
+}
+
 TEST_F(SimPair, FindFaceGivesTheLandmarksAndTurn) {
   const FoundFace f = find_face(cap_->front);
   EXPECT_EQ(f.faces, 1);
