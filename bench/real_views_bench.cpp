@@ -15,10 +15,10 @@
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
-// [--head-turn MIN_DEG] [--head face|whole (default)] [--background photo (default: the views
-// composited into the front photo's scene, the head removed) | black]. JSON on stdout, Markdown on
-// stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real +-45, dlib's
-// points drawn). The pictures show real people: keep OUTDIR outside the repository.
+// [--no-equalize] [--head-turn MIN_DEG] [--head face|whole (default)] [--background photo (default:
+// the views composited into the front photo's scene, the head removed) | black]. JSON on stdout,
+// Markdown on stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real
+// +-45, dlib's points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -139,6 +139,7 @@ struct Options {
   double view_gain = render::SynthesisOptions{}.view_gain;
   vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
   bool float_textures = render::SynthesisOptions{}.float_textures;
+  bool equalize = render::SynthesisOptions{}.equalize;
   render::UnseenSide unseen = render::SynthesisOptions{}.unseen;
   double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
   reconstruct::HeadExtent head = reconstruct::HeadExtent::Whole;
@@ -204,6 +205,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       const auto synth = reconstruct::view_synthesizer(rec, model);
       render::SynthesisOptions so;
       so.float_textures = opt.float_textures;
+      so.equalize = opt.equalize;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
       so.unseen = opt.unseen;
@@ -473,6 +475,8 @@ int main(int argc, char** argv) {
         opt.view_gain = std::stod(argv[++i]);
       } else if (a == "--no-float") {
         opt.float_textures = false;
+      } else if (a == "--no-equalize") {
+        opt.equalize = false;
       } else if (a == "--unseen" && i + 1 < argc) {
         opt.unseen = render::parse_unseen_side(argv[++i]);
       } else if (a == "--head-turn" && i + 1 < argc) {
@@ -496,8 +500,8 @@ int main(int argc, char** argv) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
-             "view|texture|front] [--head-turn MIN_DEG] [--head face|whole] [--background "
-             "photo|black]\n";
+             "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--head face|whole] "
+             "[--background photo|black]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);
