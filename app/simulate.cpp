@@ -45,7 +45,8 @@ Command simulate_command() {
        {"light", true,
         "A,D[,X,Y,Z]  ambient, diffuse and light travel direction (default 0.6,0.5)"},
        {"misalign", true, "DEG[,MM]  random true-camera pose errors up to DEG degrees / MM mm"},
-       {"seed", true, "N  noise / clutter / misalignment seed (default: the subject)"}},
+       {"seed", true, "N  noise / clutter / misalignment seed (default: the subject)"},
+       {"mouth", true, "MM  the mouth open: the chin lowered MM mm, 0..20 (default 0)"}},
       0};
 }
 
@@ -127,8 +128,10 @@ int run_simulate(int argc, char** argv) {
   const std::string out = args.get("out");
   if (std::filesystem::exists(out) && !std::filesystem::is_directory(out))
     throw std::runtime_error("output folder " + out + ": exists and is not a folder");
-  const sim::Head head = args.has("scan") ? load_scan(args.get("scan"), data_dir(args.get("data")))
-                                          : sim::make_head(subject);
+  sim::Head head = args.has("scan") ? load_scan(args.get("scan"), data_dir(args.get("data")))
+                                    : sim::make_head(subject);
+  if (args.has("mouth"))
+    head = sim::open_mouth(head, to_double("mouth", args.get("mouth"), 0, sim::kMaxMouthOpenMm));
   const sim::Capture cap = sim::simulate_capture(head, options);
   prepare_output_dir(out);
   sim::write_simulation(out, head, cap, options);

@@ -5,7 +5,10 @@
 // head against the true corrected frame, the output rate, glass-to-output latency, and at rest
 // the jitter of the model's landmarks in the output.
 //
-//   live_bench [SUBJECTS] [OUT_DIR]     (default 3 subjects: 1, 2, 3)
+// The head talks: its mouth opens up to MOUTH mm at the chin and closes three times a loop
+// (sim::SimCameraOptions::mouth_mm), and the mouth is scored on its own.
+//
+//   live_bench [SUBJECTS] [OUT_DIR] [MOUTH_MM]    (default 3 subjects: 1, 2, 3; mouth 8 mm)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -72,13 +75,33 @@ struct Cameras {
   }
 };
 
-nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostringstream& md) {
+// The mouth in the true view: the box around the lips and mouth corners, 4 px beyond.
+cv::Mat mouth_mask(const sim::Head& head, const capture::CameraModel& camera, cv::Size size) {
+  cv::Rect2d box;
+  bool first = true;
+  for (const char* n : {"mouth_left", "mouth_right", "lip_upper", "lip_lower"}) {
+    const Eigen::Vector2d p = capture::project(camera, head.landmarks.at(n));
+    const cv::Rect2d r(p.x(), p.y(), 0, 0);
+    box = first ? r : (box | r);
+    first = false;
+  }
+  cv::Mat m(size, CV_8U, cv::Scalar(0));
+  cv::rectangle(m,
+                cv::Rect(cv::Point(int(box.x) - 4, int(box.y) - 4),
+                         cv::Point(int(box.br().x) + 5, int(box.br().y) + 5)),
+                cv::Scalar(255), cv::FILLED);
+  return m;
+}
+
+nlohmann::json run_subject(int subject, double mouth_mm, const std::string& out_dir,
+                           std::ostringstream& md) {
   sim::SimCameraOptions o;
   o.subject = subject;
   o.motion_deg = 25;
   o.pitch_deg = 15;
   o.cycle_frames = 120;  // one turn in 4 s, a nod in 2 s
   o.noise_sigma = 2;
+  o.mouth_mm = mouth_mm;
   const sim::Head head = sim::make_head(subject);
   render::Renderer renderer;
   sim::RigOptions rig_options;  // the lighting of the truth renders
@@ -96,11 +119,13 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
       reconstruct::from_photos(pair.first.image, pair.second.image, ro);
   reconstruct::LiveView live(fit);
 
-  std::vector<double> err, err_raw, psnr, psnr_face, latency, track_ms, texture_ms, draw_ms, out_t;
+  std::vector<double> err, err_raw, psnr, psnr_face, psnr_mouth, latency, track_ms, texture_ms,
+      draw_ms, out_t;
   int lost = 0;
   std::vector<std::string> lost_why;  // the first few
   struct Scored {
     int k;
+    std::uint64_t sequence;
     cv::Mat live, output;
     reconstruct::HeadPose truth;
   };
@@ -126,25 +151,28 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
     truth.rotation = sim::sim_head_rotation(o, f.sequence);
     err.push_back(lf.track.pose.angle_to_deg(truth));
     if (lf.track.tracked) err_raw.push_back(lf.track.raw.angle_to_deg(truth));
-    if (k % 8 == 0) scored.push_back({k, f.image.clone(), lf.image.clone(), truth});
+    if (k % 8 == 0) scored.push_back({k, f.sequence, f.image.clone(), lf.image.clone(), truth});
   }
   const double fps = (out_t.size() - 1) / (out_t.back() - out_t.front());
   // Scored after the run, so the truth renders do not slow the live loop.
-  for (const auto& [k, live_frame, output, truth] : scored) {
+  for (const auto& [k, sequence, live_frame, output, truth] : scored) {
+    const sim::Head talking = sim::open_mouth(head, sim::sim_mouth_open_mm(o, sequence));
     // The true corrected frame: the true head at this frame's pose, turned by the correction
     // about the same neck point the view turns it about.
     const capture::CameraModel turned = capture::turned_camera(
         ro.rig->front, 0, kCorrectionPitchDeg, truth.apply(live.model().pivot));
     const render::RenderResult t = sim::render_head(
-        head, rig_options, capture::posed_camera(turned, truth.rotation, truth.translation_mm),
+        talking, rig_options, capture::posed_camera(turned, truth.rotation, truth.translation_mm),
         renderer);
     psnr.push_back(render::psnr(t.image, output, t.mask));
     // The face alone: inside the hull of the true landmarks (brows to chin, cheek to cheek).
     const capture::CameraModel truth_camera =
         capture::posed_camera(turned, truth.rotation, truth.translation_mm);
-    const cv::Mat face = sim::landmark_hull_mask(head, truth_camera, t.mask.size());
+    const cv::Mat face = sim::landmark_hull_mask(talking, truth_camera, t.mask.size());
     psnr_face.push_back(render::psnr(t.image, output, face & t.mask));
-    if (!out_dir.empty() && k % 40 == 0) {
+    psnr_mouth.push_back(
+        render::psnr(t.image, output, mouth_mask(talking, truth_camera, t.mask.size()) & t.mask));
+    if (!out_dir.empty() && k % 40 == 16) {  // the mouth about half open
       // live frame | output | true corrected frame, for a person to look at.
       cv::Mat row;
       cv::hconcat(std::vector<cv::Mat>{live_frame, output, t.image}, row);
@@ -155,7 +183,7 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
 
   // At rest with sensor noise: how much the model's landmarks shake in the output.
   sim::SimCameraOptions still = o;
-  still.motion_deg = still.pitch_deg = 0;
+  still.motion_deg = still.pitch_deg = still.mouth_mm = 0;
   still.cycle_frames = 30;
   Cameras rest(still);
   reconstruct::LiveView steady(fit);
@@ -189,6 +217,7 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
       {"lost_first", lost_why},
       {"psnr_head_db", {{"mean", mean(psnr)}, {"min", percentile(psnr, 0)}}},
       {"psnr_face_db", {{"mean", mean(psnr_face)}, {"min", percentile(psnr_face, 0)}}},
+      {"psnr_mouth_db", {{"mean", mean(psnr_mouth)}, {"min", percentile(psnr_mouth, 0)}}},
       {"fps_out", fps},
       {"latency_ms", {{"median", percentile(latency, 0.5)}, {"p95", percentile(latency, 0.95)}}},
       {"track_ms_median", percentile(track_ms, 0.5)},
@@ -197,13 +226,13 @@ nlohmann::json run_subject(int subject, const std::string& out_dir, std::ostring
       {"rest_jitter_px_rms", jitter}};
   char line[300];
   std::snprintf(line, sizeof(line),
-                "| %d | %.2f / %.2f | %d | %.1f (%.1f) | %.1f (%.1f) | %.1f | %.1f / %.1f | %.1f + "
-                "%.1f + %.1f | "
-                "%.3f |\n",
+                "| %d | %.2f / %.2f | %d | %.1f (%.1f) | %.1f (%.1f) | %.1f (%.1f) | %.1f | %.1f / "
+                "%.1f | %.1f + %.1f + %.1f | %.3f |\n",
                 subject, percentile(err, 0.5), percentile(err, 0.95), lost, mean(psnr),
-                percentile(psnr, 0), mean(psnr_face), percentile(psnr_face, 0), fps,
-                percentile(latency, 0.5), percentile(latency, 0.95), percentile(track_ms, 0.5),
-                percentile(texture_ms, 0.5), percentile(draw_ms, 0.5), jitter);
+                percentile(psnr, 0), mean(psnr_face), percentile(psnr_face, 0), mean(psnr_mouth),
+                percentile(psnr_mouth, 0), fps, percentile(latency, 0.5), percentile(latency, 0.95),
+                percentile(track_ms, 0.5), percentile(texture_ms, 0.5), percentile(draw_ms, 0.5),
+                jitter);
   md << line;
   return j;
 }
@@ -214,20 +243,24 @@ int main(int argc, char** argv) {
   try {
     const int subjects = argc > 1 ? std::stoi(argv[1]) : 3;
     const std::string out_dir = argc > 2 ? argv[2] : "";
+    const double mouth_mm = argc > 3 ? std::stod(argv[3]) : 8.0;
     if (subjects < 1 || subjects > 50) throw std::invalid_argument("SUBJECTS must be in 1..50");
+    if (!(mouth_mm >= 0 && mouth_mm <= 15))
+      throw std::invalid_argument("MOUTH_MM must be in 0..15");
     std::ostringstream md;
     md << "| subject | pose error median / p95 deg | frames lost | PSNR head dB mean (min) | PSNR "
-          "face dB mean (min) | "
-          "fps out | latency median / p95 ms | track + texture + draw ms | rest jitter px RMS "
-          "|\n|---|---|---|---|---|---|---|---|---|\n";
+          "face dB mean (min) | PSNR mouth dB mean (min) | fps out | latency median / p95 ms | "
+          "track + texture + draw ms | rest jitter px RMS |\n|---|---|---|---|---|---|---|---|---|"
+          "---|\n";
     nlohmann::json runs = nlohmann::json::array();
-    std::vector<double> err, psnr, psnr_face, fps, lat, jit;
+    std::vector<double> err, psnr, psnr_face, psnr_mouth, fps, lat, jit;
     for (int s = 1; s <= subjects; ++s) {
-      runs.push_back(run_subject(s, out_dir, md));
+      runs.push_back(run_subject(s, mouth_mm, out_dir, md));
       const auto& r = runs.back();
       err.push_back(r["pose_error_deg"]["median"]);
       psnr.push_back(r["psnr_head_db"]["mean"]);
       psnr_face.push_back(r["psnr_face_db"]["mean"]);
+      psnr_mouth.push_back(r["psnr_mouth_db"]["mean"]);
       fps.push_back(r["fps_out"]);
       lat.push_back(r["latency_ms"]["median"]);
       jit.push_back(r["rest_jitter_px_rms"]);
@@ -235,11 +268,13 @@ int main(int argc, char** argv) {
     const nlohmann::json j = {{"benchmark", "live_bench"},
                               {"correction_pitch_deg", kCorrectionPitchDeg},
                               {"motion", "yaw +-25 deg, pitch +-15 deg, 4 s loop, noise 2"},
+                              {"mouth_mm", mouth_mm},
                               {"subjects", runs},
                               {"mean",
                                {{"pose_error_median_deg", mean(err)},
                                 {"psnr_head_db", mean(psnr)},
                                 {"psnr_face_db", mean(psnr_face)},
+                                {"psnr_mouth_db", mean(psnr_mouth)},
                                 {"fps_out", mean(fps)},
                                 {"latency_median_ms", mean(lat)},
                                 {"rest_jitter_px_rms", mean(jit)}}}};

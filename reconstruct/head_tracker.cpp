@@ -103,6 +103,8 @@ void TrackerOptions::check() const {
   require(std::isfinite(max_rms_px) && max_rms_px > 0, "TrackerOptions: max_rms_px must be > 0");
   require(std::isfinite(max_turn_deg) && max_turn_deg > 0 && max_turn_deg <= 90,
           "TrackerOptions: max_turn_deg must be in (0, 90]");
+  require(!std::isnan(min_height_mm) && min_height_mm < std::numeric_limits<double>::infinity(),
+          "TrackerOptions: min_height_mm must be a number below +infinity");
   OneEuroFilter check_filter(min_cutoff_hz, beta);
 }
 
@@ -146,6 +148,9 @@ HeadTracker::HeadTracker(const mesh::TriMesh& mesh, int face_vertices,
     if (t[0] < 0 || t[1] < 0 || t[2] < 0 || t[0] >= nv || t[1] >= nv || t[2] >= nv)
       throw std::invalid_argument("HeadTracker: a triangle's vertex index is out of range");
     if (t[0] >= face_vertices || t[1] >= face_vertices || t[2] >= face_vertices) continue;
+    if (std::max({mesh.vertices[t[0]].y(), mesh.vertices[t[1]].y(), mesh.vertices[t[2]].y()}) <
+        options_.min_height_mm)
+      continue;
     Tri tri;
     for (int k = 0; k < 3; ++k) {
       tri.x[k] = mesh.vertices[t[k]];
@@ -186,7 +191,7 @@ HeadTracker::HeadTracker(const mesh::TriMesh& mesh, int face_vertices,
       hit = (1 - b1 - b2) * tri.x[0] + b1 * tri.x[1] + b2 * tri.x[2];
       normal = tri.n;
     }
-    if (!std::isfinite(best)) continue;
+    if (!std::isfinite(best) || hit.y() < options_.min_height_mm) continue;
     points_.push_back(hit);
     normals_.push_back(normal);
     if (static_cast<int>(points_.size()) >= options_.max_points) break;

@@ -2,6 +2,7 @@
 // tracked by optical flow and the pose solved from them, then smoothed by a One-Euro filter.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -49,13 +50,16 @@ struct HeadPose {
 };
 
 struct TrackerOptions {
-  int max_points = 240;        // model points tracked (the most textured of the face)
-  double min_spacing_px = 6;   // between chosen points in the reference frame
-  double min_facing = 0.3;     // cos of the angle between a point's normal and the view
-  int min_inliers = 25;        // fewer points that agree with the pose: the head is lost
-  double inlier_px = 3.0;      // residual of a point that agrees
-  double max_rms_px = 2.0;     // inlier RMS above this: the head is lost
-  double max_turn_deg = 45;    // a pose turned further from the fit than this: lost
+  int max_points = 240;       // model points tracked (the most textured of the face)
+  double min_spacing_px = 6;  // between chosen points in the reference frame
+  double min_facing = 0.3;    // cos of the angle between a point's normal and the view
+  int min_inliers = 25;       // fewer points that agree with the pose: the head is lost
+  double inlier_px = 3.0;     // residual of a point that agrees
+  double max_rms_px = 2.0;    // inlier RMS above this: the head is lost
+  double max_turn_deg = 45;   // a pose turned further from the fit than this: lost
+  // Model points lower than this (head frame y, mm) are not tracked: LiveView sets the
+  // subnasale's height, as the mouth and jaw move when the person talks.
+  double min_height_mm = -std::numeric_limits<double>::infinity();
   double min_cutoff_hz = 1.0;  // One-Euro filter of the pose (each rotation-vector and
   double beta = 0.5;           // translation component; beta per degree or mm per second)
   void check() const;          // std::invalid_argument naming the first bad field

@@ -70,8 +70,12 @@ void LiveView::load(const Reconstruction& fit) {
   tracker_error_ = "tracking off";
   if (options_.tracking) {
     try {
+      TrackerOptions to = options_.tracker;
+      const auto lu = fit.landmarks.find("lip_upper"), ll = fit.landmarks.find("lip_lower");
+      if (!options_.track_mouth && lu != fit.landmarks.end() && ll != fit.landmarks.end())
+        to.min_height_mm = std::max(to.min_height_mm, 0.5 * (lu->second.y() + ll->second.y()));
       tracker_ = std::make_unique<HeadTracker>(model_.mesh, model_.face_vertices, photo_rig_.front,
-                                               fit.front, options_.tracker);
+                                               fit.front, to);
       tracker_error_.clear();
     } catch (const std::invalid_argument& e) {
       tracker_error_ = std::string("tracking off: ") + e.what();

@@ -73,6 +73,15 @@ HeadParams head_params(int seed);
 Head make_head(const HeadParams& params, const HeadOptions& options = {});
 Head make_head(int seed);
 
+// The head with its mouth open: the lower lip, jaw and chin turned down about the jaw's hinge
+// (between the tragi) until the chin is `open_mm` lower; nothing above the lips' line moves, the
+// neck's base stays, landmarks move with the surface. The texture's dark line between the lips
+// stretches into the open mouth. open_mm = 0 gives the head as it is. Throws
+// std::invalid_argument when open_mm is outside [0, kMaxMouthOpenMm] or the head lacks a
+// lip_upper, lip_lower, chin, chin_bottom or tragus landmark.
+inline constexpr double kMaxMouthOpenMm = 20;
+Head open_mouth(const Head& head, double open_mm);
+
 // The section of the head surface at height y_mm: what the front view's silhouette (x range) and
 // the side view's profile (z range) show on that row. std::nullopt if y is outside the mesh.
 struct SilhouetteExtremes {

@@ -31,6 +31,12 @@ std::pair<double, double> frame_pose(const SimCameraOptions& o, std::uint64_t se
           o.pitch_deg * std::sin(4 * kPi * k / o.cycle_frames)};
 }
 
+// How far the mouth is open in frame `sequence` (mm the chin is lowered; sim/sim_camera.h).
+double frame_mouth(const SimCameraOptions& o, std::uint64_t sequence) {
+  const double k = static_cast<double>(sequence % static_cast<std::uint64_t>(o.cycle_frames));
+  return o.mouth_mm * 0.5 * (1 - std::cos(2 * kPi * kMouthCycles * k / o.cycle_frames));
+}
+
 // A turn past -45 degrees is beyond what the rig's cameras turn (sim::PoseError, +-45): the front
 // camera's frame is then the side camera's, whose nominal view is the head turned by -90, turned
 // by the rest (yaw + 90). Same intrinsics, same light (fixed to the head), so the same image.
@@ -67,19 +73,21 @@ struct Loop {
 
 std::shared_ptr<const Loop> render_loop(const SimCameraOptions& o, int width, int height) {
   static std::mutex m;
-  static std::map<std::tuple<int, int, int, int, double, double, double, bool>,
+  static std::map<std::tuple<int, int, int, int, double, double, double, bool, double>,
                   std::weak_ptr<const Loop>>
       cache;
   std::lock_guard<std::mutex> lock(m);
   const auto key = std::make_tuple(o.subject, width, height, o.cycle_frames, o.motion_deg,
-                                   o.pitch_deg, o.noise_sigma, o.turn);
+                                   o.pitch_deg, o.noise_sigma, o.turn, o.mouth_mm);
   if (auto hit = cache[key].lock()) return hit;
   const Head head = make_head(o.subject);
   render::Renderer renderer;
   auto loop = std::make_shared<Loop>();
   for (int k = 0; k < o.cycle_frames; ++k) {
+    const double mouth = frame_mouth(o, static_cast<std::uint64_t>(k));
     const Capture c = simulate_capture(
-        head, frame_rig_options(o, width, height, static_cast<std::uint64_t>(k)), renderer);
+        mouth > 0 ? open_mouth(head, mouth) : head,
+        frame_rig_options(o, width, height, static_cast<std::uint64_t>(k)), renderer);
     loop->front.push_back(front_from_side(o, static_cast<std::uint64_t>(k)) ? c.side : c.front);
     loop->side.push_back(c.side);
   }
@@ -162,6 +170,13 @@ void SimCameraOptions::check() const {
   if (!(jitter_s >= 0 && jitter_s < 0.01))
     throw std::invalid_argument("SimCameraOptions: jitter_s must be in [0, 0.01)");
   if (!std::isfinite(phase_s)) throw std::invalid_argument("SimCameraOptions: phase_s not finite");
+  if (!(mouth_mm >= 0 && mouth_mm <= 15))
+    throw std::invalid_argument("SimCameraOptions: mouth_mm must be in [0, 15]");
+}
+
+double sim_mouth_open_mm(const SimCameraOptions& options, std::uint64_t sequence) {
+  options.check();
+  return frame_mouth(options, sequence);
 }
 
 Eigen::Matrix3d sim_head_rotation(const SimCameraOptions& options, std::uint64_t sequence) {
@@ -192,8 +207,8 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
   if (!std::regex_match(id, m, re))
     throw std::runtime_error("camera " + id +
                              ": expected sim:N/front or sim:N/side (N = subject number), "
-                             "optionally ?yaw=DEG&pitch=DEG&frames=N&noise=SIGMA (or turn=DEG "
-                             "instead of yaw)");
+                             "optionally ?yaw=DEG&pitch=DEG&frames=N&noise=SIGMA&mouth=MM (or "
+                             "turn=DEG instead of yaw)");
   SimCameraOptions o;
   o.subject = std::stoi(m[1]);
   o.side = m[2] == "side";
@@ -207,9 +222,10 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
     if (item.empty()) continue;
     const size_t eq = item.find('=');
     const std::string key = item.substr(0, eq);
-    if (key != "yaw" && key != "pitch" && key != "frames" && key != "noise" && key != "turn")
+    if (key != "yaw" && key != "pitch" && key != "frames" && key != "noise" && key != "turn" &&
+        key != "mouth")
       throw std::runtime_error("camera " + id + ": unknown option '" + key +
-                               "' (expected yaw, turn, pitch, frames or noise)");
+                               "' (expected yaw, turn, pitch, frames, noise or mouth)");
     if (key == "yaw" || key == "turn") {
       if (motion_set) throw std::runtime_error("camera " + id + ": give one of yaw and turn, once");
       motion_set = true;
@@ -225,11 +241,14 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
     if (value.empty() || used != value.size() || !std::isfinite(v) ||
         (key == "frames" && v != std::floor(v)))
       throw std::runtime_error("camera " + id + ": " + key + " = '" + value + "' is not " +
-                               (key == "frames" ? "a whole number" : "a number (degrees)"));
+                               (key == "frames"  ? "a whole number"
+                                : key == "mouth" ? "a number (mm)"
+                                                 : "a number (degrees)"));
     if (key == "yaw" || key == "turn") o.motion_deg = v;
     if (key == "turn") o.turn = true;
     if (key == "pitch") o.pitch_deg = v;
     if (key == "noise") o.noise_sigma = v;
+    if (key == "mouth") o.mouth_mm = v;
     if (key == "frames") o.cycle_frames = std::abs(v) < 1e6 ? static_cast<int>(v) : -1;
   }
   try {
@@ -237,7 +256,8 @@ std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error("camera " + id + ": " + e.what() +
                              " (query keys: yaw = motion_deg, turn = motion_deg of one turn, "
-                             "pitch = pitch_deg, frames = cycle_frames, noise = noise_sigma)");
+                             "pitch = pitch_deg, frames = cycle_frames, noise = noise_sigma, "
+                             "mouth = mouth_mm)");
   }
   return std::make_unique<SimCamera>(id, o);
 }

@@ -21,6 +21,10 @@ namespace orthoface::sim {
 // showing the side the side camera sees, up to 45 the other way), without nodding:
 //   yaw   = motion_deg * k / (N - 1)   (k = 0 .. N-1, then again from frontal)
 // the one-camera enrolment's subject looking at the camera, then turning; front camera only.
+// With mouth_mm > 0 the subject talks: its mouth opens and closes kMouthCycles times a loop,
+//   open  = mouth_mm * (1 - cos(2 pi kMouthCycles k / N)) / 2   (sim::open_mouth: the chin
+//   lowered by `open` mm), frame k = 0 closed.
+inline constexpr int kMouthCycles = 3;
 struct SimCameraOptions {
   int subject = 0;
   bool side = false;         // false: front camera, true: side camera
@@ -32,6 +36,7 @@ struct SimCameraOptions {
                              // draw in every frame of the loop
   double phase_s = -1;       // frame clock offset; < 0: 0 for front, 7 ms for side
   double jitter_s = 0.0005;  // uniform timestamp jitter (+-), like a USB camera's
+  double mouth_mm = 0;       // how far the talking mouth opens (chin lowered, mm), 0..15
   // Throws std::invalid_argument naming the first bad field.
   void check() const;
 };
@@ -42,9 +47,10 @@ struct SimCameraOptions {
 // the head origin (sim::PoseError): front yaw_deg = yaw, pitch_deg = pitch; side yaw_deg = yaw,
 // roll_deg = -pitch (the side camera looks along -x, its image x is -z, so the head's pitch is
 // a roll of that camera by -pitch). Project sim::make_head(subject) points through it to find
-// them in the frame whose capture::Frame::sequence is `sequence`. In a turn past -45 degrees
-// the front camera is the side camera's model (which draws that frame: the head turned by -90
-// seen from the side, turned by the rest). Throws std::invalid_argument on bad options or size.
+// them in the frame whose capture::Frame::sequence is `sequence` (with mouth_mm, the points below
+// the lips where sim::open_mouth(head, sim_mouth_open_mm(...)) moves them). In a turn past -45
+// degrees the front camera is the side camera's model (which draws that frame: the head turned by
+// -90 seen from the side, turned by the rest). Throws std::invalid_argument on bad options or size.
 capture::RigCalibration sim_camera_rig(const SimCameraOptions& options, int width, int height,
                                        std::uint64_t sequence);
 
@@ -56,17 +62,21 @@ capture::RigCalibration sim_camera_rig(const SimCameraOptions& options, int widt
 // Throws std::invalid_argument on bad options.
 Eigen::Matrix3d sim_head_rotation(const SimCameraOptions& options, std::uint64_t sequence);
 
+// How far the mouth is open in frame `sequence` (mm the chin is lowered; 0 without mouth_mm).
+// Throws std::invalid_argument on bad options.
+double sim_mouth_open_mm(const SimCameraOptions& options, std::uint64_t sequence);
+
 // A capture::Camera backed by the simulated rig: modes BGR3 320x240 / 640x480 / 1280x720 at 30
 // or 15 fps; frames arrive at the mode's rate with CLOCK_MONOTONIC timestamps. The poses are
 // rendered (OSMesa) in start(), so next_frame costs a copy.
 std::unique_ptr<capture::Camera> open_sim_camera(const SimCameraOptions& options);
 
 // Parses "sim:N/front" or "sim:N/side" (N >= 0) and opens it; the camera's name is the id. An
-// optional query sets the motion: "sim:N/front?yaw=25&pitch=15&frames=60&noise=2" (yaw ->
-// motion_deg, pitch -> pitch_deg, frames -> cycle_frames, noise -> noise_sigma; the rest keep
-// their defaults); "turn=DEG" instead of yaw plays one turn to DEG (turn = true, motion_deg =
-// DEG): "sim:N/front?turn=-90&frames=46" (not with pitch or on a side camera). Throws
-// std::runtime_error naming the id (and the key) when it does not match, a key is unknown, a
+// optional query sets the motion: "sim:N/front?yaw=25&pitch=15&frames=60&noise=2&mouth=8" (yaw
+// -> motion_deg, pitch -> pitch_deg, frames -> cycle_frames, noise -> noise_sigma, mouth ->
+// mouth_mm; the rest keep their defaults); "turn=DEG" instead of yaw plays one turn to DEG (turn =
+// true, motion_deg = DEG): "sim:N/front?turn=-90&frames=46" (not with pitch or on a side camera).
+// Throws std::runtime_error naming the id (and the key) when it does not match, a key is unknown, a
 // value is not a number or is out of range.
 std::unique_ptr<capture::Camera> open_sim_camera(const std::string& id);
 

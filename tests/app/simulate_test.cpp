@@ -103,12 +103,26 @@ TEST(SimulateCommand, OptionsChangeThePhotos) {
   EXPECT_FALSE(t.true_rig.front.cam_from_head.isApprox(t.nominal_rig.front.cam_from_head, 1e-6));
 }
 
+// --mouth opens the sim head's mouth: the chin lower by the opening, the face above the lips
+// where it was.
+TEST(SimulateCommand, MouthOpensTheJaw) {
+  const fs::path work = testing::temp_dir("app_simulate_mouth");
+  ASSERT_EQ(run("simulate --subject 2 --out shut", work).code, 0);
+  const ProcessResult r = run("simulate --subject 2 --out open --mouth 8", work);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const sim::Truth shut = sim::read_truth_json((work / "shut" / "landmarks.json").string());
+  const sim::Truth open = sim::read_truth_json((work / "open" / "landmarks.json").string());
+  EXPECT_NEAR(open.landmarks.at("chin").xyz_mm.y(), shut.landmarks.at("chin").xyz_mm.y() - 8, 1e-6);
+  EXPECT_LT((open.landmarks.at("nose_tip").xyz_mm - shut.landmarks.at("nose_tip").xyz_mm).norm(),
+            1e-9);
+}
+
 TEST(SimulateCommand, HelpListsTheFlags) {
   const fs::path work = testing::temp_dir("app_simulate_help");
   const ProcessResult r = run("simulate --help", work);
   EXPECT_EQ(r.code, 0);
   for (const char* flag : {"--subject", "--out", "--rig", "--size", "--noise", "--blur",
-                           "--background", "--light", "--scan"})
+                           "--background", "--light", "--scan", "--mouth"})
     EXPECT_NE(r.out.find(flag), std::string::npos) << flag;
 }
 
@@ -169,6 +183,8 @@ TEST(SimulateCommand, BadValuesGiveOneErrorLineAndNoFiles) {
           "simulate --subject 1 --out out --light 1,0.5,0,0,0",
           "simulate --subject 1 --out out --misalign 45",
           "simulate --subject 1 --out out --distance 10 --rig perspective",
+          "simulate --subject 1 --out out --mouth 30",
+          "simulate --subject 1 --out out --mouth wide",
       },
       "app_simulate_bad_values");
 }
