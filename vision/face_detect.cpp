@@ -60,7 +60,10 @@ std::vector<DetectedFace> detect_faces(const cv::Mat& image, double min_score, i
   detector(img, found, min_score);
   std::vector<DetectedFace> faces;
   for (const auto& d : found) {
-    const dlib::drectangle b = pyramid.rect_up(dlib::drectangle(d.rect), coarser_levels);
+    // dlib's rectangle includes its right / bottom pixel: the box ends one past them.
+    const dlib::drectangle b = pyramid.rect_up(
+        dlib::drectangle(d.rect.left(), d.rect.top(), d.rect.right() + 1, d.rect.bottom() + 1),
+        coarser_levels);
     faces.push_back(
         {cv::Rect2d(b.left() / scale, b.top() / scale, b.width() / scale, b.height() / scale),
          d.detection_confidence});
