@@ -15,6 +15,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/sim_args.h"
+#include "io/image_file.h"
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "sim/sim_folder.h"
@@ -41,7 +42,9 @@ Command simulate_command() {
        {"distance", true, "MM  perspective camera distance (default 1000)"},
        {"noise", true, "SIGMA  sensor noise, grey levels (default 0)"},
        {"blur", true, "SIGMA  optical blur, pixels (default 0)"},
-       {"background", true, "KIND  plain or cluttered (default plain)"},
+       {"background", true,
+        "KIND  plain, cluttered (a drawn room) or photo:FILE (each camera sees its own part of "
+        "a scene photograph; default plain)"},
        {"light", true,
         "A,D[,X,Y,Z]  ambient, diffuse and light travel direction (default 0.6,0.5)"},
        {"misalign", true, "DEG[,MM]  random true-camera pose errors up to DEG degrees / MM mm"},
@@ -76,9 +79,18 @@ sim::RigOptions rig_options(const Args& a, int default_seed) {
   if (a.has("noise")) o.noise_sigma = to_double("noise", a.get("noise"), 0, 100);
   if (a.has("blur")) o.blur_sigma = to_double("blur", a.get("blur"), 0, 50);
   const std::string bg = a.get("background", "plain");
-  if (bg != "plain" && bg != "cluttered")
-    throw std::invalid_argument("--background: expected plain or cluttered, got '" + bg + "'");
-  o.background = bg == "plain" ? sim::BackgroundKind::Plain : sim::BackgroundKind::Cluttered;
+  if (bg.rfind("photo:", 0) == 0) {
+    o.background = sim::BackgroundKind::Photo;
+    o.background_photo = bg.substr(6);
+    if (!io::accepted_image_file(o.background_photo))
+      throw std::invalid_argument("--background: '" + o.background_photo +
+                                  "' is not a readable image (" + io::kAcceptedImageTypes + ")");
+  } else if (bg == "plain" || bg == "cluttered") {
+    o.background = bg == "plain" ? sim::BackgroundKind::Plain : sim::BackgroundKind::Cluttered;
+  } else {
+    throw std::invalid_argument("--background: expected plain, cluttered or photo:FILE, got '" +
+                                bg + "'");
+  }
   o.seed = a.has("seed") ? to_int("seed", a.get("seed"), 0, 1000000000) : default_seed;
   if (a.has("light")) {
     const std::vector<double> l = to_list("light", a.get("light"), -1e3, 1e3);

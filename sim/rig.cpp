@@ -7,8 +7,10 @@
 #include <string>
 
 #include <Eigen/Geometry>
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "io/image_file.h"
 #include "sim/face_mask.h"
 
 namespace orthoface::sim {
@@ -128,6 +130,28 @@ void add_clutter(cv::Mat& img, cv::RNG& rng) {
                 cv::FONT_HERSHEY_SIMPLEX, big / 800.0 + 0.3, colour(), 1 + big / 500, cv::LINE_AA);
 }
 
+// One camera's part of the background photo: the photo scaled to cover 1.3 times the frame, a
+// seeded frame-sized window of it (the front camera's in the left half of the spare room, the
+// side camera's in the right half), mirrored for the side camera.
+cv::Mat photo_part(const RigOptions& o, int camera_index) {
+  const cv::Mat photo = io::imread_accepted(o.background_photo, cv::IMREAD_COLOR);
+  if (photo.empty())
+    throw std::invalid_argument("background photo '" + o.background_photo +
+                                "' cannot be read as an image (" + io::kAcceptedImageTypes + ")");
+  const double s = 1.3 * std::max(double(o.width) / photo.cols, double(o.height) / photo.rows);
+  cv::Mat big;
+  cv::resize(photo, big,
+             cv::Size(std::max(o.width, int(std::ceil(photo.cols * s))),
+                      std::max(o.height, int(std::ceil(photo.rows * s)))),
+             0, 0, s > 1 ? cv::INTER_CUBIC : cv::INTER_AREA);
+  cv::RNG rng(o.seed * 104729u + 11u);
+  const int spare_x = big.cols - o.width, spare_y = big.rows - o.height;
+  const double fx = rng.uniform(0.0, 0.5) + 0.5 * camera_index, fy = rng.uniform(0.0, 1.0);
+  cv::Mat out = big(cv::Rect(int(fx * spare_x), int(fy * spare_y), o.width, o.height)).clone();
+  if (camera_index == 1) cv::flip(out, out, 1);
+  return out;
+}
+
 }  // namespace
 
 void RigOptions::check() const {
@@ -152,6 +176,8 @@ void RigOptions::check() const {
           "blur_sigma must be in [0, 50] pixels");
   for (int i = 0; i < 3; ++i)
     require(background_bgr[i] >= 0 && background_bgr[i] <= 255, "background_bgr must be in 0..255");
+  require((background == BackgroundKind::Photo) == !background_photo.empty(),
+          "background_photo is needed with, and only with, a photo background");
 }
 
 capture::RigCalibration nominal_rig(const RigOptions& options) {
@@ -186,6 +212,7 @@ cv::Mat background_image(const RigOptions& options, int camera_index) {
   options.check();
   if (camera_index != 0 && camera_index != 1)
     throw std::invalid_argument("background_image: camera_index must be 0 (front) or 1 (side)");
+  if (options.background == BackgroundKind::Photo) return photo_part(options, camera_index);
   cv::Mat img(options.height, options.width, CV_8UC3, options.background_bgr);
   if (options.background == BackgroundKind::Plain) return img;
   // Cluttered: a lit wall (vertical gradient), objects, and fine texture; cv::RNG is the same

@@ -14,7 +14,7 @@
 namespace orthoface::sim {
 
 enum class RigKind { Ideal, Perspective };  // ideal = seed 004 orthographic, equal heights
-enum class BackgroundKind { Plain, Cluttered };
+enum class BackgroundKind { Plain, Cluttered, Photo };
 
 // Error of one TRUE camera against its nominal pose. The angles turn the camera about the head
 // origin around the camera's own axes (pitch: image x, yaw: image y, roll: view axis), so the
@@ -37,7 +37,11 @@ struct RigOptions {
   double blur_sigma = 0;   // Gaussian optical blur, pixels (applied before the noise)
   BackgroundKind background = BackgroundKind::Plain;
   cv::Scalar background_bgr{200, 200, 200};  // plain background colour
-  std::uint64_t seed = 0;  // noise and cluttered background; same seed, same images
+  // Photo: a photograph of a scene (any image file io/image_file.h accepts). Each camera sees
+  // its own part of it, scaled to cover the frame (the side camera's part mirrored), as two
+  // cameras 90 degrees apart see different walls of a room.
+  std::string background_photo;
+  std::uint64_t seed = 0;  // noise, cluttered background, photo crop; same seed, same images
   // Throws std::invalid_argument naming the first bad field.
   void check() const;
 };
@@ -84,8 +88,9 @@ render::RenderResult render_head(const Head& head, const RigOptions& options,
 render::RenderResult true_view(const Head& head, const RigOptions& options, double yaw_rad,
                                double pitch_rad, render::Renderer& renderer);
 
-// The empty scene behind the head for one camera (0 = front, 1 = side): plain colour or a
-// cluttered, seeded texture, before blur and noise. Throws std::invalid_argument on bad options.
+// The empty scene behind the head for one camera (0 = front, 1 = side): plain colour, a
+// cluttered seeded texture, or that camera's part of the background photo, before blur and
+// noise. Throws std::invalid_argument on bad options or a photo that cannot be decoded.
 cv::Mat background_image(const RigOptions& options, int camera_index);
 
 // Adds options' blur then noise to `image` (CV_8UC3); `stream` picks an independent noise draw.

@@ -139,6 +139,18 @@ PoseError read_pose(const Reader& rd, const json& j, const std::string& field) {
   return e;
 }
 
+const char* background_name(BackgroundKind k) {
+  switch (k) {
+    case BackgroundKind::Cluttered:
+      return "cluttered";
+    case BackgroundKind::Photo:
+      return "photo";
+    case BackgroundKind::Plain:
+      break;
+  }
+  return "plain";
+}
+
 json options_json(const RigOptions& o) {
   return {{"rig", o.kind == RigKind::Ideal ? "ideal" : "perspective"},
           {"px_per_mm", o.px_per_mm},
@@ -151,7 +163,8 @@ json options_json(const RigOptions& o) {
           {"light_direction", to_json(o.light_direction)},
           {"noise_sigma", o.noise_sigma},
           {"blur_sigma", o.blur_sigma},
-          {"background", o.background == BackgroundKind::Plain ? "plain" : "cluttered"},
+          {"background", background_name(o.background)},
+          {"background_photo", o.background_photo},
           {"background_bgr", {o.background_bgr[0], o.background_bgr[1], o.background_bgr[2]}}};
 }
 
@@ -173,9 +186,13 @@ RigOptions read_options(const Reader& rd, const json& j) {
   o.noise_sigma = rd.num(j, "noise_sigma", "options.noise_sigma");
   o.blur_sigma = rd.num(j, "blur_sigma", "options.blur_sigma");
   const std::string bg = rd.text(j, "background", "options.background");
-  if (bg != "plain" && bg != "cluttered")
-    rd.fail("options.background", "expected plain or cluttered");
-  o.background = bg == "plain" ? BackgroundKind::Plain : BackgroundKind::Cluttered;
+  if (bg != "plain" && bg != "cluttered" && bg != "photo")
+    rd.fail("options.background", "expected plain, cluttered or photo");
+  o.background = bg == "plain"       ? BackgroundKind::Plain
+                 : bg == "cluttered" ? BackgroundKind::Cluttered
+                                     : BackgroundKind::Photo;
+  if (j.contains("background_photo"))
+    o.background_photo = rd.text(j, "background_photo", "options.background_photo");
   const Eigen::VectorXd c = rd.vec(j, "background_bgr", "options.background_bgr", 3);
   o.background_bgr = cv::Scalar(c[0], c[1], c[2]);
   return o;

@@ -19,7 +19,8 @@ namespace orthoface::sim {
 //   "options": {"rig": "ideal"|"perspective", "px_per_mm", "focal_px", "distance_mm",
 //               "front_error"/"side_error": {"roll_deg","yaw_deg","pitch_deg","offset_mm":[x,y,z]},
 //               "ambient", "diffuse", "light_direction": [x,y,z], "noise_sigma", "blur_sigma",
-//               "background": "plain"|"cluttered", "background_bgr": [b,g,r]},
+//               "background": "plain"|"cluttered"|"photo", "background_photo": PATH ("" unless
+//               photo), "background_bgr": [b,g,r]},
 //   "cameras": {"true": RIG, "nominal": RIG},   // RIG = {"front": CAM, "side": CAM}
 //      CAM = as in rig.yaml: {"projection": "orthographic"|"perspective", "width", "height",
 //             "camera_matrix": [[fx,0,cx],[0,fy,cy],[0,0,1]], "distortion": [k1,k2,p1,p2,k3],
