@@ -13,6 +13,7 @@ packages=(
   libcgal-dev  # bench/analysis_bench only: exact geodesics as the accuracy reference
   libdlib-dev  # vision: the face detector of the input check; judge/: the real-photo judge
   libdlib-data  # judge/ only (benchmarks, tests): the judge's 68-point predictor
+  opencv-doc  # bench/scene_bench only: its sample photographs are the real scenes behind sim heads
   clang-format  # scripts/run.sh test: every source as .clang-format says
   clang libclang-rt-14-dev  # scripts/run.sh fuzz: libFuzzer and the sanitizers of clang 14
   python3-dev python3-numpy python3-pybind11  # python/: the `import orthoface` module + tests

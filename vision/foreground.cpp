@@ -24,9 +24,9 @@ inline int bin_of(const cv::Vec3b& c) {
   return ((c[0] >> 4) * kBins + (c[1] >> 4)) * kBins + (c[2] >> 4);
 }
 
-// Colour histogram of the left, right and top border strips (the bottom holds the body).
-std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool use_left,
-                                    bool use_right) {
+// Colour counts of the left, right and top border strips (the bottom holds the body).
+std::vector<float> border_counts(const cv::Mat& bgr, double fraction, bool use_left,
+                                 bool use_right) {
   std::vector<float> h(kBins * kBins * kBins, 0.f);
   const int bw = std::max(2, int(bgr.cols * fraction)), bh = std::max(2, int(bgr.rows * fraction));
   const int side_rows = int(bgr.rows * 0.75);
@@ -40,6 +40,13 @@ std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool us
       for (int c = bgr.cols - bw; use_right && c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
     }
   }
+  return h;
+}
+
+// Colour density of the border strips relative to a uniform spread over all bins.
+std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool use_left,
+                                    bool use_right) {
+  const std::vector<float> h = border_counts(bgr, fraction, use_left, use_right);
   // Spread each count to its 26 neighbours: sensor noise moves colours across bin borders.
   std::vector<float> s(h.size(), 0.f);
   for (int b = 0; b < kBins; ++b)
@@ -116,6 +123,22 @@ cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
                                 std::to_string(background.rows) + ", image is " +
                                 std::to_string(bgr.cols) + "x" + std::to_string(bgr.rows));
   return from_background(bgr, background);
+}
+
+int border_colour_count(const cv::Mat& bgr, const SegmentOptions& options) {
+  options.check();
+  if (bgr.empty() || bgr.type() != CV_8UC3)
+    throw std::invalid_argument("border_colour_count: expected 8-bit BGR image");
+  cv::Mat smooth;
+  cv::GaussianBlur(bgr, smooth, cv::Size(5, 5), 1.0);
+  std::vector<float> h =
+      border_counts(smooth, options.border_fraction, options.sample_left, options.sample_right);
+  double total = 0;
+  for (float v : h) total += v;
+  std::sort(h.rbegin(), h.rend());
+  int n = 0;
+  for (double acc = 0; n < int(h.size()) && acc < 0.95 * total;) acc += h[n++];
+  return n;
 }
 
 cv::Mat head_mask(const cv::Mat& probability, const SegmentOptions& options, int* num_blobs) {

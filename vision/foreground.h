@@ -19,6 +19,15 @@ struct SegmentOptions {
 cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
                                const SegmentOptions& options = {});
 
+// How many of the border model's 4096 colour bins (16 levels a channel) hold 95 % of the border
+// strips' pixels, after the same 5x5 smoothing: a curtain or a wall shows a handful (FRMDB's
+// studio photos 5-11, a plain sim background 1), a room or a street scores tens to a hundred.
+// Above kBusyBorderColours the border colours are no model of the background: the scene behind
+// the subject holds colours the strips never show, and the strips hold the subject's. Throws
+// std::invalid_argument when `bgr` is not 8-bit BGR.
+inline constexpr int kBusyBorderColours = 16;
+int border_colour_count(const cv::Mat& bgr, const SegmentOptions& options = {});
+
 // Binary mask (CV_8U 0/255) of the head blob: the largest central connected component of
 // `probability` > 0.5 (its outer contour), holes filled. Empty Mat when nothing large enough
 // is found.

@@ -5,12 +5,14 @@
 #include <cstring>
 #include <functional>
 #include <future>
+#include <optional>
 #include <stdexcept>
 
 #include <opencv2/imgproc.hpp>
 
 #include "vision/contour_chain.h"
 #include "vision/face_detect.h"
+#include "vision/face_landmarks68.h"
 #include "vision/feature_filters.h"
 #include "vision/foreground.h"
 #include "vision/front_boundary.h"
@@ -20,6 +22,7 @@
 #include "vision/landmarks.h"
 #include "vision/observe_front.h"
 #include "vision/registration.h"
+#include "vision/scene_cut.h"
 #include "vision/side_profile.h"
 
 namespace orthoface::vision {
@@ -146,8 +149,18 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
   return r;
 }
 
-// Everything observe() learns from the side photo alone, and its profile once the front blob
-// gives the least head height (`min_h`).
+// What the side photo's work waits for from the front: the least head height (the front blob's
+// head width: a side blob without its hair underestimates it), what the front says of the head
+// when it shows a face (vision/scene_cut.h), and whether the front was cut out of a busy scene
+// (the side then is too).
+struct FrontHint {
+  double min_h = 0;
+  std::optional<SideHint> head;
+  bool front_cut = false;
+};
+
+// Everything observe() learns from the side photo alone, and its profile once the front gives
+// its hint.
 struct SideWork {
   SideBlob blob;
   FoundFace face;
@@ -156,7 +169,7 @@ struct SideWork {
   std::vector<std::string> warnings;
 };
 SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
-                   std::shared_future<double> min_h) {
+                   std::shared_future<FrontHint> front) {
   SideWork w;
   w.blob = side_blob(side, bg);
   w.face = find_face(side, kSideFaceCoarserLevels);
@@ -166,7 +179,28 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   w.camera = given;
   if (given == SideCamera::Auto && std::abs(w.face.turn) >= kClearSideTurn)
     w.camera = w.face.turn < 0 ? SideCamera::Left : SideCamera::Right;
-  w.result = observe_side(side, w.blob, w.camera, min_h.get(), w.warnings);
+  const FrontHint& hint = front.get();
+  if (hint.head && bg.empty()) {
+    // The side is cut out like the front (the same room), or when its own border is busy or its
+    // blob leaves out the subject's colours (skin-coloured walls, wood).
+    const int colours = border_colour_count(side);
+    const double missed = side_missed(side, w.blob.mask, *hint.head);
+    if (hint.front_cut || colours > kBusyBorderColours || missed > kSideMissed) {
+      const SceneCut cut = cut_side(side, *hint.head, w.blob.prob);
+      w.blob.prob = cut.probability, w.blob.mask = cut.mask;
+      w.blob.blobs = cut.mask.empty() ? 0 : 1;
+      if (!hint.front_cut)
+        w.warnings.push_back("side view: busy background (" +
+                             (colours > kBusyBorderColours
+                                  ? std::to_string(colours) + " colours along the photo's border"
+                                  : "the head's blob leaves out " +
+                                        std::to_string(int(std::lround(100 * missed))) +
+                                        " % of the subject's colours") +
+                             "): the subject was cut out where its colours gather; a clean plate "
+                             "(--side-background) does better");
+    }
+  }
+  w.result = observe_side(side, w.blob, w.camera, hint.min_h, w.warnings);
   return w;
 }
 
@@ -240,6 +274,60 @@ void add_side_eye(const cv::Mat& side, const SideResult& s, FaceObservation& obs
   obs.side.features["eye_" + name + "_outer"] = c;
 }
 
+// The network's face box: cheek to cheek (jaw points 0..16), brows to chin (17..26, 8).
+cv::Rect2d face_box(const FaceLandmarks68& f) {
+  double x0 = 1e9, x1 = -1e9, y0 = 1e9;
+  for (int i = 0; i <= 16; ++i) x0 = std::min(x0, f.points[i].x), x1 = std::max(x1, f.points[i].x);
+  for (int i = 17; i <= 26; ++i) y0 = std::min(y0, f.points[i].y);
+  return cv::Rect2d(x0, y0, x1 - x0, f.points[8].y - y0);
+}
+
+// Without a clean plate, a front blob that spills into the scene beside the face (vision/
+// scene_cut.h) is replaced by the subject cut out around the face; the side learns where the
+// front's head is either way, to check its own blob or cut it too.
+// `face` was found around the front blob (`searched_blob`) or in the whole photo.
+void cut_out_of_scene(const cv::Mat& front, const ObserveOptions& o, double row_scale,
+                      bool searched_blob, FrontHead& head, FrontFace& face, FrontHint& hint,
+                      std::vector<std::string>& warn) {
+  cv::Rect2d box = face_box(*face.found);
+  if (!(box.width > 1 && box.height > 1)) return;
+  const int colours = border_colour_count(front);
+  double spill = scene_spill(head.mask, box);
+  // A face found around a blob that is not the head may be the scene's: the largest face of the
+  // whole photo is then the one to cut around.
+  if (spill > kSceneSpill && searched_blob) {
+    FrontFace whole = find_front_face(front, o);
+    if (whole.found) {
+      face = std::move(whole);
+      box = face_box(*face.found);
+      spill = scene_spill(head.mask, box);
+    }
+  }
+  if (colours > kBusyBorderColours || spill > kSceneSpill) {
+    const SceneCut cut = cut_front(front, box, head.probability);
+    try {
+      hint.head = side_hint(front, cut.mask, box, row_scale);
+    } catch (const std::invalid_argument&) {  // a cut short of the eyes: keep the blob
+      return;
+    }
+    head.probability = cut.probability, head.mask = cut.mask, head.blobs = 1;
+    hint.front_cut = true;
+    warn.push_back(
+        "front view: busy background (" +
+        (colours > kBusyBorderColours
+             ? std::to_string(colours) + " colours along the photo's border"
+             : "the head's blob spilled " + std::to_string(spill).substr(0, 4) +
+                   " face areas into the scene") +
+        "): the subject was cut out around the face, and out of the side photo where its "
+        "colours gather; clean plates (--front-background / --side-background) do better");
+    return;
+  }
+  try {
+    hint.head = side_hint(front, head.mask, box, row_scale);
+  } catch (const std::invalid_argument&) {  // a blob short of the eyes: the side keeps its own
+  }
+}
+
 void check_sizes(const cv::Mat& f, const cv::Mat& s, double ratio) {
   const double r = double(std::max(f.rows, s.rows)) / std::min(f.rows, s.rows);
   if (r > ratio)
@@ -290,21 +378,28 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
   // underestimates. A hood or collar widening the blob below the head does not count.
   const double row_scale = double(front.rows) / side.rows;
-  std::promise<double> min_h_promise;
+  std::promise<FrontHint> hint_promise;
   std::future<SideWork> side_task =
       std::async(std::launch::async, side_work, std::cref(side), std::cref(bgs), o.side_camera,
-                 min_h_promise.get_future().share());
+                 hint_promise.get_future().share());
   FrontHead head;
+  FrontFace front_face;
   try {
     head = segment_front(front, bgf);
-    min_h_promise.set_value(
-        head.mask.empty() ? 0.0
-                          : kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale);
+    front_face = find_front_face(front, o, search_area(head.mask));
+    bool searched_blob = !head.mask.empty();
+    if (!front_face.found && bgf.empty() && searched_blob)  // a blob beside the head
+      front_face = find_front_face(front, o), searched_blob = false;
+    FrontHint hint;
+    if (bgf.empty() && front_face.found)
+      cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
+    if (!head.mask.empty())
+      hint.min_h = kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
+    hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it
-    min_h_promise.set_exception(std::current_exception());
+    hint_promise.set_exception(std::current_exception());
     throw;
   }
-  const FrontFace front_face = find_front_face(front, o, search_area(head.mask));
   SideWork side_done = side_task.get();
   obs.side_face = side_done.face;
   obs.front_blob = head.mask;

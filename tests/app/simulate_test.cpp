@@ -15,6 +15,7 @@
 #include "mesh/mesh_io.h"
 #include "sim/truth_json.h"
 #include "tests/common/run_command.h"
+#include "tests/common/scene_photo.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::app {
@@ -103,6 +104,25 @@ TEST(SimulateCommand, OptionsChangeThePhotos) {
   EXPECT_FALSE(t.true_rig.front.cam_from_head.isApprox(t.nominal_rig.front.cam_from_head, 1e-6));
 }
 
+// --background photo:FILE: each camera sees its part of the photograph; landmarks.json says which.
+TEST(SimulateCommand, BackgroundPhotoPutsTheHeadInAScene) {
+  const fs::path work = testing::temp_dir("app_simulate_photo");
+  testing::write_scene_photo((work / "room.png").string(), 5);
+  const ProcessResult r = run("simulate --subject 2 --out s --background photo:room.png", work);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const cv::Mat front = cv::imread((work / "s" / "front.png").string());
+  const cv::Mat plate = cv::imread((work / "s" / "background.png").string());
+  const cv::Mat side_plate = cv::imread((work / "s" / "background_side.png").string());
+  cv::Scalar mean, sd;
+  cv::meanStdDev(plate, mean, sd);
+  EXPECT_GT(sd[0] + sd[1] + sd[2], 60.0);  // a scene, not a plain colour
+  EXPECT_GT(cv::norm(plate, side_plate, cv::NORM_L1) / plate.total(), 10.0);
+  EXPECT_GT(cv::norm(front, plate, cv::NORM_L1) / front.total(), 1.0);  // the head stands in it
+  const sim::Truth t = sim::read_truth_json((work / "s" / "landmarks.json").string());
+  EXPECT_EQ(t.options.background, sim::BackgroundKind::Photo);
+  EXPECT_EQ(t.options.background_photo, "room.png");
+}
+
 // --mouth opens the sim head's mouth: the chin lower by the opening, the face above the lips
 // where it was.
 TEST(SimulateCommand, MouthOpensTheJaw) {
@@ -179,6 +199,9 @@ TEST(SimulateCommand, BadValuesGiveOneErrorLineAndNoFiles) {
           "simulate --subject 1 --out out --noise -2",
           "simulate --subject 1 --out out --blur lots",
           "simulate --subject 1 --out out --background jungle",
+          "simulate --subject 1 --out out --background photo:",
+          "simulate --subject 1 --out out --background photo:missing.png",
+          "simulate --subject 1 --out out --background photo:a_file",
           "simulate --subject 1 --out out --light 1",
           "simulate --subject 1 --out out --light 1,0.5,0,0,0",
           "simulate --subject 1 --out out --misalign 45",

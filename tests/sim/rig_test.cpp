@@ -16,6 +16,7 @@
 #include "sim/scan.h"
 #include "sim/sim_folder.h"
 #include "sim/truth_json.h"
+#include "tests/common/scene_photo.h"
 #include "tests/common/test_data.h"
 
 namespace orthoface::sim {
@@ -315,6 +316,39 @@ TEST(Rig, ClutteredBackgroundIsBusyDeterministicAndLeavesTheHeadAlone) {
   EXPECT_EQ(cv::norm(a.background_front, background_image(o, 0), cv::NORM_INF), 0.0);  // no noise
   o.seed = 4;
   EXPECT_GT(cv::norm(background_image(o, 0), a.background_front, cv::NORM_L1), 0.0);
+}
+
+TEST(Rig, PhotoBackgroundShowsEachCameraItsOwnPartOfTheScene) {
+  render::Renderer renderer;
+  const Head head = ellipsoid_head();
+  const auto dir = testing::temp_dir("rig_photo");
+  RigOptions o;
+  o.background = BackgroundKind::Photo;
+  o.background_photo = testing::write_scene_photo((dir / "room.png").string(), 4);
+  o.seed = 2;
+  const Capture a = simulate_capture(head, o, renderer);
+  EXPECT_GT(background_std(a), 20.0);
+  ASSERT_EQ(a.background_front.size(), cv::Size(o.width, o.height));
+  EXPECT_GT(cv::norm(a.background_front, a.background_side, cv::NORM_L1) / a.front.total(), 10.0);
+  EXPECT_EQ(cv::norm(a.front, simulate_capture(head, o, renderer).front, cv::NORM_INF), 0.0);
+  const Capture plain = simulate_capture(head, {}, renderer);
+  EXPECT_EQ(cv::norm(a.front, plain.front, cv::NORM_INF, a.front_mask), 0.0);  // the head alone
+  o.seed = 3;  // another seed, another part of the scene
+  EXPECT_GT(cv::norm(background_image(o, 0), a.background_front, cv::NORM_L1), 0.0);
+  RigOptions no_photo = o;
+  no_photo.background_photo.clear();
+  EXPECT_THROW(no_photo.check(), std::invalid_argument);
+  RigOptions stray;
+  stray.background_photo = "room.png";  // a photo without the photo background
+  EXPECT_THROW(stray.check(), std::invalid_argument);
+  RigOptions missing = o;
+  missing.background_photo = (dir / "missing.png").string();
+  try {
+    background_image(missing, 0);
+    ADD_FAILURE() << "a missing photo was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.png"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Rig, LightingScalesTheHead) {
