@@ -16,7 +16,8 @@
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
 // [--no-equalize] [--head-turn MIN_DEG] [--head face|whole (default)] [--background photo (default:
-// the views composited into the front photo's scene, the head removed) | black]. JSON on stdout,
+// the views composited into the front photo's scene, the head removed) | black] [--scene PHOTO:
+// each person put in front of a scene photograph first (into_scene)]. JSON on stdout,
 // Markdown on stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real
 // +-45, dlib's points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
@@ -41,6 +42,7 @@
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
+#include "vision/foreground.h"
 
 namespace {
 
@@ -144,7 +146,32 @@ struct Options {
   double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
   reconstruct::HeadExtent head = reconstruct::HeadExtent::Whole;
   bool composite = true;  // views over the front photo's scene (else on black)
+  std::string scene;      // a scene photograph the people are put in front of (empty: none)
 };
+
+// The person of a studio photo in front of `scene`: vision's own border-colour blob of the photo
+// (head and body before FRMDB's plain curtain; dark hair on the dark curtain is lost with it),
+// feathered by a pixel, over the scene scaled to cover the photo (mirrored for the side photo, so
+// the two cameras see different parts of it).
+cv::Mat into_scene(const cv::Mat& photo, const cv::Mat& scene, bool mirror) {
+  const cv::Mat blob = vision::head_mask(vision::foreground_probability(photo, {}));
+  if (blob.empty()) throw std::runtime_error("no person found to put in front of the scene");
+  const double s = std::max(double(photo.cols) / scene.cols, double(photo.rows) / scene.rows);
+  cv::Mat big, alpha, out;
+  cv::resize(scene, big, cv::Size(), s * 1.05, s * 1.05, cv::INTER_AREA);
+  if (mirror) cv::flip(big, big, 1);
+  big = big(
+      cv::Rect((big.cols - photo.cols) / 2, (big.rows - photo.rows) / 2, photo.cols, photo.rows));
+  blob.convertTo(alpha, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(alpha, alpha, cv::Size(0, 0), 1.0);
+  cv::Mat a3, p, b;
+  cv::merge(std::vector<cv::Mat>{alpha, alpha, alpha}, a3);
+  photo.convertTo(p, CV_32FC3);
+  big.convertTo(b, CV_32FC3);
+  cv::Mat mixed = p.mul(a3) + b.mul(cv::Scalar::all(1.0) - a3);
+  mixed.convertTo(out, CV_8UC3);
+  return out;
+}
 
 int run(const std::string& dir, const std::string& out_dir, const Options& opt) {
   if (!fs::is_directory(dir)) {
@@ -176,6 +203,12 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
+  int cut_out = 0;  // pairs vision cut out of a busy background
+  cv::Mat scene;
+  if (!opt.scene.empty()) {
+    scene = cv::imread(opt.scene);
+    if (scene.empty()) throw std::invalid_argument("--scene: cannot read '" + opt.scene + "'");
+  }
   double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
   double iou_base_sum = 0;  // the front photo's head, unrotated, against the same real heads
@@ -188,18 +221,25 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
     const fs::path d = fs::path(dir) / p;
     json r = {{"person", p}};
     try {
-      const cv::Mat front = cv::imread((d / "Img_33.JPG").string());
-      const cv::Mat side = cv::imread((d / "Img_53.JPG").string());
+      cv::Mat front = cv::imread((d / "Img_33.JPG").string());
+      cv::Mat side = cv::imread((d / "Img_53.JPG").string());
       const cv::Mat real_near = cv::imread((d / "Img_43.JPG").string());
       const cv::Mat real_far = cv::imread((d / "Img_23.JPG").string());
       if (front.empty() || side.empty() || real_near.empty() || real_far.empty())
         throw std::runtime_error("unreadable photo");
+      if (!scene.empty())
+        front = into_scene(front, scene, false), side = into_scene(side, scene, true);
       reconstruct::ReconstructOptions ro;
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
       ro.observe.landmarker = opt.landmarker;
       ro.min_head_turn_deg = opt.min_head_turn_deg;
       const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
       ++reconstructed;
+      for (const std::string& w : rec.report.warnings)
+        if (w.find("busy background") != std::string::npos) {
+          ++cut_out;
+          break;
+        }
       const capture::RigCalibration& rig = rec.photo_rig;
       const reconstruct::ViewModel model = reconstruct::view_model(rec, opt.head);
       const auto synth = reconstruct::view_synthesizer(rec, model);
@@ -397,6 +437,13 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
     res.push_back(r);
   }
   json out = {{"people", people.size()}, {"reconstructed", reconstructed}, {"results", res}};
+  if (!opt.scene.empty()) {
+    out["scene"] = {{"photo", opt.scene}, {"cut_out_of_the_scene", cut_out}};
+    md += cv::format(
+        "\nIn front of %s: %d of %zu pairs reconstructed, %d of them cut out of a busy "
+        "background.\n",
+        opt.scene.c_str(), reconstructed, people.size(), cut_out);
+  }
   const auto mean_score = [&](int k) { return views[k] ? score_sum[k] / views[k] : NAN; };
   for (int k = 0; k < 3; ++k)
     out["faces_found"][std::to_string(kYawsDeg[k])] = {
@@ -490,6 +537,8 @@ int main(int argc, char** argv) {
         if (b != "photo" && b != "black")
           throw std::invalid_argument("--background: photo or black");
         opt.composite = b == "photo";
+      } else if (a == "--scene" && i + 1 < argc) {
+        opt.scene = argv[++i];
       } else if (a == "--blend" && i + 1 < argc) {
         opt.blend = render::parse_blend(argv[++i]);
       } else {
@@ -501,7 +550,7 @@ int main(int argc, char** argv) {
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
              "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--head face|whole] "
-             "[--background photo|black]\n";
+             "[--background photo|black] [--scene PHOTO]\n";
       return 2;
     }
     return run(pos[0], pos[1], opt);

@@ -129,8 +129,16 @@ int border_colour_count(const cv::Mat& bgr, const SegmentOptions& options) {
   options.check();
   if (bgr.empty() || bgr.type() != CV_8UC3)
     throw std::invalid_argument("border_colour_count: expected 8-bit BGR image");
-  cv::Mat smooth;
-  cv::GaussianBlur(bgr, smooth, cv::Size(5, 5), 1.0);
+  // The strips smoothed as the border model smooths the whole photo (their neighbours read).
+  cv::Mat smooth = bgr.clone();
+  const int bw = std::max(2, int(bgr.cols * options.border_fraction)) + 2;
+  const int bh = std::max(2, int(bgr.rows * options.border_fraction)) + 2;
+  const cv::Rect all(0, 0, bgr.cols, bgr.rows);
+  for (const cv::Rect& strip : {cv::Rect(0, 0, bgr.cols, bh), cv::Rect(0, 0, bw, bgr.rows),
+                                cv::Rect(bgr.cols - bw, 0, bw, bgr.rows)}) {
+    const cv::Rect r = strip & all;
+    if (r.area() > 0) cv::GaussianBlur(bgr(r), smooth(r), cv::Size(5, 5), 1.0);
+  }
   std::vector<float> h =
       border_counts(smooth, options.border_fraction, options.sample_left, options.sample_right);
   double total = 0;

@@ -149,18 +149,19 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
   return r;
 }
 
-// What the side photo's work waits for from the front: the least head height (the front blob's
-// head width: a side blob without its hair underestimates it), what the front says of the head
-// when it shows a face (vision/scene_cut.h), and whether the front was cut out of a busy scene
-// (the side then is too).
+// What the side photo's work learns from the front once its face is found (vision/
+// scene_cut.h): where the head is and what colours it has, whether the front was cut out of a
+// busy scene (the side then is too), and the least head height of that cut.
 struct FrontHint {
-  double min_h = 0;
   std::optional<SideHint> head;
   bool front_cut = false;
+  double min_h = 0;
 };
 
-// Everything observe() learns from the side photo alone, and its profile once the front gives
-// its hint.
+// Everything observe() learns from the side photo alone, and its profile once the front blob
+// gives the least head height (`min_h`: the front blob's head width, as a side blob without its
+// hair underestimates it); then, told where the front's head is (`front`), the profile again
+// when the side photo must be cut out of a busy scene.
 struct SideWork {
   SideBlob blob;
   FoundFace face;
@@ -169,7 +170,7 @@ struct SideWork {
   std::vector<std::string> warnings;
 };
 SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
-                   std::shared_future<FrontHint> front) {
+                   std::shared_future<double> min_h, std::shared_future<FrontHint> front) {
   SideWork w;
   w.blob = side_blob(side, bg);
   w.face = find_face(side, kSideFaceCoarserLevels);
@@ -179,6 +180,8 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   w.camera = given;
   if (given == SideCamera::Auto && std::abs(w.face.turn) >= kClearSideTurn)
     w.camera = w.face.turn < 0 ? SideCamera::Left : SideCamera::Right;
+  std::vector<std::string> warnings;
+  w.result = observe_side(side, w.blob, w.camera, min_h.get(), warnings);
   const FrontHint& hint = front.get();
   if (hint.head && bg.empty()) {
     // The side is cut out like the front (the same room), or when its own border is busy or its
@@ -198,9 +201,11 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
                                         " % of the subject's colours") +
                              "): the subject was cut out where its colours gather; a clean plate "
                              "(--side-background) does better");
+      warnings.clear();
+      w.result = observe_side(side, w.blob, w.camera, hint.min_h, warnings);
     }
   }
-  w.result = observe_side(side, w.blob, w.camera, hint.min_h, w.warnings);
+  for (auto& m : warnings) w.warnings.push_back(std::move(m));
   return w;
 }
 
@@ -376,16 +381,25 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // thread while this one segments the front and finds its face. The profile waits for the front
   // blob only: its head width bounds the side view's head height from below (a head is about
   // 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
-  // underestimates. A hood or collar widening the blob below the head does not count.
+  // underestimates. A hood or collar widening the blob below the head does not count. Told
+  // where the front's face is, the side thread checks its blob against the front's head.
   const double row_scale = double(front.rows) / side.rows;
+  std::promise<double> min_h_promise;
   std::promise<FrontHint> hint_promise;
   std::future<SideWork> side_task =
       std::async(std::launch::async, side_work, std::cref(side), std::cref(bgs), o.side_camera,
-                 hint_promise.get_future().share());
+                 min_h_promise.get_future().share(), hint_promise.get_future().share());
+  const auto min_h = [&](const FrontHead& h) {
+    return h.mask.empty() ? 0.0
+                          : kHeightPerWidth * head_width(row_extent(h.mask), true) / row_scale;
+  };
   FrontHead head;
   FrontFace front_face;
+  bool min_h_set = false;
   try {
     head = segment_front(front, bgf);
+    min_h_promise.set_value(min_h(head));
+    min_h_set = true;
     front_face = find_front_face(front, o, search_area(head.mask));
     bool searched_blob = !head.mask.empty();
     if (!front_face.found && bgf.empty() && searched_blob)  // a blob beside the head
@@ -393,10 +407,10 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     FrontHint hint;
     if (bgf.empty() && front_face.found)
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
-    if (!head.mask.empty())
-      hint.min_h = kHeightPerWidth * head_width(row_extent(head.mask), true) / row_scale;
+    hint.min_h = min_h(head);
     hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it
+    if (!min_h_set) min_h_promise.set_exception(std::current_exception());
     hint_promise.set_exception(std::current_exception());
     throw;
   }

@@ -240,39 +240,45 @@ struct SideHead {
   int centre = 0;
   double depth = 0;  // a head is deeper, nose to nape, than it is wide
 };
-SideHead find_side_head(const cv::Mat& side, const SideHint& hint, const char* what) {
+// `whole`: the share of every row (for the cut's trimap); otherwise only of the head's rows.
+SideHead find_side_head(const cv::Mat& side, const SideHint& hint, bool whole, const char* what) {
   require_bgr(side, what);
   const double hh = hint.chin - hint.top;
   if (!(hh > 1 && hint.head_width > 1) || hint.colours.total() != size_t(kBins * kBins * kBins))
     throw std::invalid_argument(std::string(what) +
                                 ": the hint holds no head (rows, width or colours)");
+  // The photo's own colour histogram from every other pixel of every other row, and each
+  // colour's share of subject.
   std::vector<double> scene(kBins * kBins * kBins, 0.0);
-  for (int r = 0; r < side.rows; ++r) {
+  double n = 0;
+  for (int r = 0; r < side.rows; r += 2) {
     const cv::Vec3b* p = side.ptr<cv::Vec3b>(r);
-    for (int c = 0; c < side.cols; ++c) scene[bin_of(p[c])] += 1.0 / side.total();
+    for (int c = 0; c < side.cols; c += 2) scene[bin_of(p[c])] += 1, ++n;
   }
-  SideHead h;
-  h.share.create(side.size(), CV_32F);
-  for (int r = 0; r < side.rows; ++r) {
-    const cv::Vec3b* p = side.ptr<cv::Vec3b>(r);
-    float* o = h.share.ptr<float>(r);
-    for (int c = 0; c < side.cols; ++c) {
-      const int b = bin_of(p[c]);
-      const double s = hint.colours.at<float>(b);
-      o[c] = float(s / (s + scene[b] + 1e-9));
-    }
+  std::vector<float> share_of(scene.size());
+  for (size_t b = 0; b < scene.size(); ++b) {
+    const double s = hint.colours.at<float>(int(b));
+    share_of[b] = float(s / (s + scene[b] / n + 1e-9));
   }
   const int r0 = std::clamp(int(hint.top + 0.1 * hh), 0, side.rows - 1);
   const int r1 = std::clamp(int(hint.chin), r0 + 1, side.rows);
+  SideHead h;
+  h.share = cv::Mat::zeros(side.size(), CV_32F);
+  for (int r = whole ? 0 : r0; r < (whole ? side.rows : r1); ++r) {
+    const cv::Vec3b* p = side.ptr<cv::Vec3b>(r);
+    float* o = h.share.ptr<float>(r);
+    for (int c = 0; c < side.cols; ++c) o[c] = share_of[bin_of(p[c])];
+  }
+  // Column sums over the head's rows, then the best window of a head's depth (prefix sums).
   cv::Mat column;
   cv::reduce(h.share.rowRange(r0, r1), column, 0, cv::REDUCE_SUM, CV_64F);
+  std::vector<double> prefix(side.cols + 1, 0.0);
+  for (int c = 0; c < side.cols; ++c) prefix[c + 1] = prefix[c] + column.at<double>(c);
   h.depth = 1.3 * hint.head_width;
   const int half = std::max(1, int(h.depth / 2));
   double best = -1;
   for (int c = 0; c < side.cols; ++c) {
-    double sum = 0;
-    for (int d = std::max(0, c - half); d < std::min(side.cols, c + half); ++d)
-      sum += column.at<double>(d);
+    const double sum = prefix[std::min(side.cols, c + half)] - prefix[std::max(0, c - half)];
     if (sum > best) best = sum, h.centre = c;
   }
   return h;
@@ -281,7 +287,7 @@ SideHead find_side_head(const cv::Mat& side, const SideHint& hint, const char* w
 }  // namespace
 
 double side_missed(const cv::Mat& side, const cv::Mat& mask, const SideHint& hint) {
-  const SideHead h = find_side_head(side, hint, "side_missed");
+  const SideHead h = find_side_head(side, hint, false, "side_missed");
   if (!mask.empty() && (mask.size() != side.size() || mask.type() != CV_8U))
     throw std::invalid_argument("side_missed: the mask is not a CV_8U map of the photo's size");
   const cv::Rect window = cv::Rect(cv::Point(int(h.centre - h.depth / 2), int(hint.eyes)),
@@ -296,7 +302,7 @@ double side_missed(const cv::Mat& side, const cv::Mat& mask, const SideHint& hin
 }
 
 SceneCut cut_side(const cv::Mat& side, const SideHint& hint, const cv::Mat& border) {
-  const SideHead h = find_side_head(side, hint, "cut_side");
+  const SideHead h = find_side_head(side, hint, true, "cut_side");
   const double hh = hint.chin - hint.top, depth = h.depth;
   const int xc = h.centre;
   const double mid = (hint.top + hint.chin) / 2, down = 2.0 * side.rows;
