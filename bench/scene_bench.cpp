@@ -31,8 +31,8 @@ using namespace orthoface;
 namespace fs = std::filesystem;
 
 const char* const kSampleDir = "/usr/share/doc/opencv-doc/examples/data";
-const char* const kSampleScenes[] = {"leuvenA.jpg", "rubberwhale1.png", "aloeL.jpg",
-                                     "building.jpg", "stuff.jpg"};
+const char* const kSampleScenes[] = {"leuvenA.jpg", "rubberwhale1.png", "aloeL.jpg", "building.jpg",
+                                     "stuff.jpg"};
 
 // One reconstruction's outcome: the relative error (fraction), or why there is none.
 struct Outcome {
@@ -82,7 +82,8 @@ int main(int argc, char** argv) {
     for (int i = 3; i < argc; ++i) scenes.push_back(argv[i]);
     if (scenes.empty())
       for (const char* s : kSampleScenes)
-        if (fs::exists(fs::path(kSampleDir) / s)) scenes.push_back((fs::path(kSampleDir) / s).string());
+        if (fs::exists(fs::path(kSampleDir) / s))
+          scenes.push_back((fs::path(kSampleDir) / s).string());
     if (scenes.empty()) {
       std::cerr << "scene_bench: no scene photos (install opencv-doc or name them); skipped\n";
       return 0;
@@ -141,12 +142,12 @@ int main(int argc, char** argv) {
         {"refused_with_plates", refused_plates},
         {"refused_without_plates", refused_none},
         {"scored_in_all_three", plain_all.size()},
-        {"mean_relative_error", {{"plain", mean(plain_all)},
-                                 {"plates", mean(plates_all)},
-                                 {"no_plates", mean(none_all)}}},
-        {"median_relative_error", {{"plain", median(plain_all)},
-                                   {"plates", median(plates_all)},
-                                   {"no_plates", median(none_all)}}},
+        {"mean_relative_error",
+         {{"plain", mean(plain_all)}, {"plates", mean(plates_all)}, {"no_plates", mean(none_all)}}},
+        {"median_relative_error",
+         {{"plain", median(plain_all)},
+          {"plates", median(plates_all)},
+          {"no_plates", median(none_all)}}},
         {"rows", rows}};
     char summary[256];
     std::snprintf(summary, sizeof summary,
