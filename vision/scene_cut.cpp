@@ -191,12 +191,13 @@ SceneCut cut_front(const cv::Mat& front, const cv::Rect2d& face, const cv::Mat& 
   fill(trimap, {cx - 1.0 * fw, chin, 2.0 * fw, down}, cv::GC_PR_BGD);
   // Where it probably is: the head's core, the neck (unless the border colours say otherwise).
   fill(trimap, {cx - 0.6 * fw, chin, 1.2 * fw, down}, cv::GC_PR_FGD);
-  border_prior(trimap, border);
   fill_ellipse(trimap, head, {0.8 * fw, 1.1 * fh}, cv::GC_PR_FGD);
+  border_prior(trimap, border);
   // Where it surely is: the inner face (eyes, nose, mouth, cheeks), the forehead or hair above
   // the brows, the throat below the chin.
   fill_ellipse(trimap, {cx, top + 0.4 * fh}, {0.33 * fw, 0.35 * fh}, cv::GC_FGD);
   fill(trimap, {cx - 0.4 * fw, top - 0.45 * fh, 0.8 * fw, 0.45 * fh}, cv::GC_FGD);
+  fill(trimap, {cx - 0.25 * fw, top - 0.6 * fh, 0.5 * fw, 0.15 * fh}, cv::GC_FGD);
   fill(trimap, {cx - 0.15 * fw, chin + 0.2 * fh, 0.3 * fw, 0.3 * fh}, cv::GC_FGD);
   SceneCut cut = grab_cut(front, trimap, {cx - 2.4 * fw, top - 1.5 * fh, 4.8 * fw, down},
                           cv::Point(int(cx), int(top + 0.4 * fh)), int(fw / 15));
