@@ -312,10 +312,11 @@ SceneCut cut_side(const cv::Mat& side, const SideHint& hint, const cv::Mat& bord
   fill_ellipse(trimap, head, {0.9 * depth, 0.8 * hh}, cv::GC_PR_BGD);
   fill(trimap, {xc - 0.65 * depth, hint.chin, 1.3 * depth, down}, cv::GC_PR_BGD);
   fill(trimap, {xc - 0.45 * depth, hint.chin, 0.9 * depth, down}, cv::GC_PR_FGD);
-  border_prior(trimap, border);
-  // Colours that are more the scene's than the subject's start as scene too.
+  // Colours that are more the scene's than the subject's start as scene too, outside the head's
+  // core; where the border colours say background, inside it as well.
   trimap.setTo(cv::GC_PR_BGD, (trimap == cv::GC_PR_FGD) & (h.share < 0.5f));
   fill_ellipse(trimap, head, {0.5 * depth, 0.55 * hh}, cv::GC_PR_FGD);
+  border_prior(trimap, border);
   // The middle of a head in profile (cheek, ear, the hair above) is surely the subject.
   fill_ellipse(trimap, {double(xc), hint.eyes + 0.1 * hh}, {0.2 * depth, 0.25 * hh}, cv::GC_FGD);
   return grab_cut(side, trimap, {xc - 1.6 * depth, hint.top - 0.5 * hh, 3.2 * depth, down},
