@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <cstdlib>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "vision/contour_chain.h"
@@ -47,11 +45,8 @@ void fill_ellipse(cv::Mat& trimap, cv::Point2d centre, cv::Size2d axes, int labe
               360, cv::Scalar(label), cv::FILLED);
 }
 
-// GrabCut on the part of the photo inside `roi`, from the trimap's labels; the pixels outside
-// stay background.
-// Where the border colours say background, the probable subject of the head's outer zone starts
-// as probable background: the subject's colour model then starts from the subject, not from the
-// scene around it.
+// Where the border colours say background, a probable subject starts as probable background:
+// GrabCut's subject colours then start from the subject, not from the sky or the wall around it.
 void border_prior(cv::Mat& trimap, const cv::Mat& border) {
   if (border.empty()) return;
   if (border.size() != trimap.size() || border.type() != CV_32F)
@@ -80,8 +75,9 @@ std::vector<cv::Point> on_colour_steps(const cv::Mat& bgr, const std::vector<cv:
   return fixed;
 }
 
-// `open_px`: the width of the thinnest part kept (cables, frames, lines across the subject's
-// edge join the scene to it otherwise).
+// GrabCut on the part of the photo inside `roi`, from the trimap's labels (the pixels outside stay
+// background); the blob holding `seed`, holes filled. `open_px`: the width of the thinnest part
+// kept (cables, frames, lines across the subject's edge join the scene to it otherwise).
 SceneCut grab_cut(const cv::Mat& bgr, const cv::Mat& trimap, const cv::Rect2d& roi_d,
                   cv::Point seed, int open_px) {
   const cv::Rect roi = cv::Rect(cv::Point(int(roi_d.x), int(roi_d.y)),

@@ -3,9 +3,9 @@
 // before a curtain, wrong in a room, where the whole scene then joins the head's blob. Here the
 // face placed by the detector and the landmark network seeds OpenCV's GrabCut (Rother et al.
 // 2004, "GrabCut: interactive foreground extraction using iterated graph cuts"): the inner face
-// is surely subject, a head-sized box around it probably, the scene beyond surely not. The side
-// photo shows no face a detector finds; the front's subject colours place the head in it, on the
-// rows the front's head spans.
+// is surely subject, the head's core probably, a halo where big hair may reach probably not, the
+// scene beyond surely not. The side photo shows no face a detector finds; the front's subject
+// colours place the head in it, on the rows the front's head spans.
 #pragma once
 
 #include <opencv2/core.hpp>
