@@ -44,11 +44,7 @@ double percentile(std::vector<double> v, double p) {
   return v[std::min(v.size() - 1, static_cast<size_t>(p * (v.size() - 1) + 0.5))];
 }
 
-double mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return v.empty() ? NAN : s / v.size();
-}
+using bench::mean;
 
 struct Cameras {
   std::unique_ptr<capture::Camera> front, side;

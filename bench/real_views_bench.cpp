@@ -82,11 +82,7 @@ const LandmarkGroup kGroups[] = {{"eye_corners",
                                    {"brow_left_center", 24},
                                    {"brow_left_outer", 26}}}};
 
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-  return v[v.size() / 2];
-}
+using bench::median;
 
 void draw_points(cv::Mat& image, const std::optional<judge::FaceFound>& face) {
   if (!face) {
@@ -184,6 +180,11 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         << "\n";
     return 0;
   }
+  cv::Mat scene;
+  if (!opt.scene.empty()) {
+    scene = cv::imread(opt.scene);
+    if (scene.empty()) throw std::invalid_argument("--scene: cannot read '" + opt.scene + "'");
+  }
   fs::create_directories(out_dir);
   std::vector<std::string> people;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -203,12 +204,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
-  int cut_out = 0;  // pairs vision cut out of a busy background
-  cv::Mat scene;
-  if (!opt.scene.empty()) {
-    scene = cv::imread(opt.scene);
-    if (scene.empty()) throw std::invalid_argument("--scene: cannot read '" + opt.scene + "'");
-  }
+  int cut_out = 0;                    // pairs vision cut out of a busy background
   double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
   double iou_base_sum = 0;  // the front photo's head, unrotated, against the same real heads

@@ -75,9 +75,19 @@ Outcome reconstruct_and_score(const sim::Head& head, const sim::Capture& cap, bo
 
 int main(int argc, char** argv) {
   try {
-    const int subjects = argc > 1 ? std::stoi(argv[1]) : 5;
+    int subjects = 5;
+    if (argc > 1) {
+      std::size_t used = 0;
+      try {
+        subjects = std::stoi(argv[1], &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used == 0 || argv[1][used] != '\0' || subjects < 1 || subjects > 1000)
+        throw std::invalid_argument("SUBJECTS must be a whole number in 1..1000, got '" +
+                                    std::string(argv[1]) + "'");
+    }
     const std::string out_dir = argc > 2 ? argv[2] : "";
-    if (subjects < 1 || subjects > 1000) throw std::invalid_argument("SUBJECTS must be 1..1000");
     std::vector<std::string> scenes;
     for (int i = 3; i < argc; ++i) scenes.push_back(argv[i]);
     if (scenes.empty())
@@ -127,16 +137,7 @@ int main(int argc, char** argv) {
                   << " / " << without.md() << "\n";
       }
     }
-    auto median = [](std::vector<double> v) {
-      if (v.empty()) return -1.0;
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      return v[v.size() / 2];
-    };
-    auto mean = [](const std::vector<double>& v) {
-      double s = 0;
-      for (double x : v) s += x;
-      return v.empty() ? -1.0 : s / v.size();
-    };
+    using bench::mean, bench::median;
     const nlohmann::json j = {
         {"pairs", pairs},
         {"refused_with_plates", refused_plates},

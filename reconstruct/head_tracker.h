@@ -57,8 +57,8 @@ struct TrackerOptions {
   double inlier_px = 3.0;     // residual of a point that agrees
   double max_rms_px = 2.0;    // inlier RMS above this: the head is lost
   double max_turn_deg = 45;   // a pose turned further from the fit than this: lost
-  // Model points lower than this (head frame y, mm) are not tracked: LiveView sets the
-  // subnasale's height, as the mouth and jaw move when the person talks.
+  // Model points lower than this (head frame y, mm) are not tracked: LiveView sets the lips'
+  // line (between lip_upper and lip_lower), as the lower lip and jaw move when the person talks.
   double min_height_mm = -std::numeric_limits<double>::infinity();
   double min_cutoff_hz = 1.0;  // One-Euro filter of the pose (each rotation-vector and
   double beta = 0.5;           // translation component; beta per degree or mm per second)

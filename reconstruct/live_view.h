@@ -20,8 +20,8 @@ struct LiveViewOptions {
   // every update's `side`): its camera stays where the fit put it while the head moves.
   bool still_side = false;
   TrackerOptions tracker;
-  // false: the tracker follows the face above the subnasale only (TrackerOptions::min_height_mm;
-  // the mouth and jaw move as the person talks); true: the whole face.
+  // false: the tracker follows the face above the lips' line only (TrackerOptions::min_height_mm;
+  // the lower lip and jaw move as the person talks); true: the whole face.
   bool track_mouth = false;
   // The head hull, coarser than the offline views' (2 mm, 96): each of its triangles is drawn
   // three times a frame (two source depth maps and the view).

@@ -78,7 +78,7 @@ Head make_head(int seed);
 // neck's base stays, landmarks move with the surface. The texture's dark line between the lips
 // stretches into the open mouth. open_mm = 0 gives the head as it is. Throws
 // std::invalid_argument when open_mm is outside [0, kMaxMouthOpenMm] or the head lacks a
-// lip_upper, lip_lower, chin, chin_bottom or tragus landmark.
+// lip_upper, lip_lower, mouth corner, chin, chin_bottom or tragus landmark.
 inline constexpr double kMaxMouthOpenMm = 20;
 Head open_mouth(const Head& head, double open_mm);
 

@@ -18,26 +18,22 @@ void SegmentOptions::check() const {
 
 namespace {
 
-constexpr int kBins = 16;  // per channel, 4 bits
-
-inline int bin_of(const cv::Vec3b& c) {
-  return ((c[0] >> 4) * kBins + (c[1] >> 4)) * kBins + (c[2] >> 4);
-}
+constexpr int kBins = kColourLevels;
 
 // Colour counts of the left, right and top border strips (the bottom holds the body).
 std::vector<float> border_counts(const cv::Mat& bgr, double fraction, bool use_left,
                                  bool use_right) {
-  std::vector<float> h(kBins * kBins * kBins, 0.f);
+  std::vector<float> h(kColourBins, 0.f);
   const int bw = std::max(2, int(bgr.cols * fraction)), bh = std::max(2, int(bgr.rows * fraction));
   const int side_rows = int(bgr.rows * 0.75);
   for (int r = 0; r < bgr.rows; ++r) {
     const cv::Vec3b* p = bgr.ptr<cv::Vec3b>(r);
     if (r < bh) {  // top strip: outer thirds only, the crown may reach the top centre
-      for (int c = 0; c < bgr.cols / 3; c += 2) h[bin_of(p[c])] += 1;
-      for (int c = bgr.cols - bgr.cols / 3; c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
+      for (int c = 0; c < bgr.cols / 3; c += 2) h[colour_bin(p[c])] += 1;
+      for (int c = bgr.cols - bgr.cols / 3; c < bgr.cols; c += 2) h[colour_bin(p[c])] += 1;
     } else if (r < side_rows) {
-      for (int c = 0; use_left && c < bw; c += 2) h[bin_of(p[c])] += 1;
-      for (int c = bgr.cols - bw; use_right && c < bgr.cols; c += 2) h[bin_of(p[c])] += 1;
+      for (int c = 0; use_left && c < bw; c += 2) h[colour_bin(p[c])] += 1;
+      for (int c = bgr.cols - bw; use_right && c < bgr.cols; c += 2) h[colour_bin(p[c])] += 1;
     }
   }
   return h;
@@ -81,7 +77,7 @@ cv::Mat from_border_model(const cv::Mat& bgr, const SegmentOptions& o) {
   for (int r = 0; r < bgr.rows; ++r) {
     const cv::Vec3b* s = smooth.ptr<cv::Vec3b>(r);
     float* o = p.ptr<float>(r);
-    for (int c = 0; c < bgr.cols; ++c) o[c] = prob[bin_of(s[c])];
+    for (int c = 0; c < bgr.cols; ++c) o[c] = prob[colour_bin(s[c])];
   }
   return p;
 }

@@ -19,6 +19,14 @@ struct SegmentOptions {
 cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
                                const SegmentOptions& options = {});
 
+// The colour bins of the border model's histograms: 16 levels a channel (the top 4 bits),
+// kColourBins in all; colour_bin gives a pixel's.
+inline constexpr int kColourLevels = 16;
+inline constexpr int kColourBins = kColourLevels * kColourLevels * kColourLevels;
+inline int colour_bin(const cv::Vec3b& bgr) {
+  return ((bgr[0] >> 4) * kColourLevels + (bgr[1] >> 4)) * kColourLevels + (bgr[2] >> 4);
+}
+
 // How many of the border model's 4096 colour bins (16 levels a channel) hold 95 % of the border
 // strips' pixels, after the same 5x5 smoothing: a curtain or a wall shows a handful (FRMDB's
 // studio photos 5-11, a plain sim background 1), a room or a street scores tens to a hundred.

@@ -10,16 +10,14 @@
 
 #include "vision/contour_chain.h"
 #include "vision/edges.h"
+#include "vision/foreground.h"
 
 namespace orthoface::vision {
 
 namespace {
 
-constexpr int kBins = 16;  // per channel
 constexpr int kGrabCutIterations = 5;
 constexpr double kWorkWidth = 240;  // columns GrabCut works on
-
-int bin_of(const cv::Vec3b& c) { return ((c[0] >> 4) * kBins + (c[1] >> 4)) * kBins + (c[2] >> 4); }
 
 void require_bgr(const cv::Mat& m, const char* what) {
   if (m.empty() || m.type() != CV_8UC3)
@@ -228,13 +226,13 @@ SideHint side_hint(const cv::Mat& front, const cv::Mat& mask, const cv::Rect2d& 
     throw std::invalid_argument("side_hint: the front cut does not reach the eyes");
   h.top = e.top / row_scale, h.chin = chin / row_scale, h.eyes = eyes / row_scale;
   h.head_width = (e.right[eyes] - e.left[eyes] + 1) / row_scale;
-  h.colours = cv::Mat::zeros(1, kBins * kBins * kBins, CV_32F);
+  h.colours = cv::Mat::zeros(1, kColourBins, CV_32F);
   double n = 0;
   for (int r = e.top; r <= chin; ++r) {
     const cv::Vec3b* p = front.ptr<cv::Vec3b>(r);
     const uchar* m = mask.ptr<uchar>(r);
     for (int c = 0; c < front.cols; ++c)
-      if (m[c]) h.colours.at<float>(bin_of(p[c])) += 1, ++n;
+      if (m[c]) h.colours.at<float>(colour_bin(p[c])) += 1, ++n;
   }
   h.colours /= std::max(1.0, n);
   return h;
@@ -254,16 +252,16 @@ struct SideHead {
 SideHead find_side_head(const cv::Mat& side, const SideHint& hint, bool whole, const char* what) {
   require_bgr(side, what);
   const double hh = hint.chin - hint.top;
-  if (!(hh > 1 && hint.head_width > 1) || hint.colours.total() != size_t(kBins * kBins * kBins))
+  if (!(hh > 1 && hint.head_width > 1) || hint.colours.total() != size_t(kColourBins))
     throw std::invalid_argument(std::string(what) +
                                 ": the hint holds no head (rows, width or colours)");
   // The photo's own colour histogram from every other pixel of every other row, and each
   // colour's share of subject.
-  std::vector<double> scene(kBins * kBins * kBins, 0.0);
+  std::vector<double> scene(kColourBins, 0.0);
   double n = 0;
   for (int r = 0; r < side.rows; r += 2) {
     const cv::Vec3b* p = side.ptr<cv::Vec3b>(r);
-    for (int c = 0; c < side.cols; c += 2) scene[bin_of(p[c])] += 1, ++n;
+    for (int c = 0; c < side.cols; c += 2) scene[colour_bin(p[c])] += 1, ++n;
   }
   std::vector<float> share_of(scene.size());
   for (size_t b = 0; b < scene.size(); ++b) {
@@ -277,7 +275,7 @@ SideHead find_side_head(const cv::Mat& side, const SideHint& hint, bool whole, c
   for (int r = whole ? 0 : r0; r < (whole ? side.rows : r1); ++r) {
     const cv::Vec3b* p = side.ptr<cv::Vec3b>(r);
     float* o = h.share.ptr<float>(r);
-    for (int c = 0; c < side.cols; ++c) o[c] = share_of[bin_of(p[c])];
+    for (int c = 0; c < side.cols; ++c) o[c] = share_of[colour_bin(p[c])];
   }
   // Column sums over the head's rows, then the best window of a head's depth (prefix sums).
   cv::Mat column;

@@ -40,7 +40,8 @@ struct SideHint {
   double top = 0, chin = 0;  // crown and chin rows
   double eyes = 0;           // the eyes' row
   double head_width = 0;     // the head's width at the eyes, hair included
-  cv::Mat colours;           // CV_32F 16x16x16 BGR histogram of the subject's head, sums to 1
+  cv::Mat colours;  // CV_32F 1 x kColourBins histogram (vision/foreground.h) of the subject's head,
+                    // sums to 1
 };
 // `mask`: the front's subject (a cut or the border-colour blob); `row_scale`: front rows per
 // side row. Throws std::invalid_argument when `front` is not 8-bit BGR, the mask is not the
