@@ -11,11 +11,11 @@
 #include <stdexcept>
 #include <vector>
 
-#include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "vision/haar_init.h"
+#include "vision/net_kernels.h"
 
 namespace orthoface::vision {
 namespace {
@@ -29,12 +29,44 @@ constexpr double kCropScale = 1.4, kCropLift = -0.05;
 const char* const kModelFile = "face_landmark_68_model.bin";
 const char* const kManifestFile = "face_landmark_68_model-weights_manifest.json";
 
+// The storage of feature maps, kept per thread: a pass makes the same maps in the same sizes
+// every time, and fresh ones (up to 400 KB, beyond the allocator's reuse) cost a page fault every
+// 4 KB and the kernel's zeroing, about half a pass's time.
+std::vector<std::vector<float>>& spare_storage() {
+  thread_local std::vector<std::vector<float>> spare;
+  return spare;
+}
+std::vector<float> take_storage(size_t n) {
+  std::vector<std::vector<float>>& spare = spare_storage();
+  auto best = spare.end();
+  for (auto it = spare.begin(); it != spare.end(); ++it)
+    if (it->capacity() >= n && (best == spare.end() || it->capacity() < best->capacity()))
+      best = it;
+  std::vector<float> v;
+  if (best != spare.end()) v.swap(*best), spare.erase(best);
+  v.assign(n, 0.0f);
+  return v;
+}
+void give_storage(std::vector<float>&& v) {
+  std::vector<std::vector<float>>& spare = spare_storage();
+  if (v.capacity() > 0 && spare.size() < 32) spare.push_back(std::move(v));
+}
+
 // A feature map, height x width x channels, channels fastest.
 struct Map {
   int h = 0, w = 0, c = 0;
   std::vector<float> v;
   Map() = default;
-  Map(int h_, int w_, int c_) : h(h_), w(w_), c(c_), v(size_t(h_) * w_ * c_, 0.0f) {}
+  Map(int h_, int w_, int c_) : h(h_), w(w_), c(c_), v(take_storage(size_t(h_) * w_ * c_)) {}
+  Map(const Map& o) : h(o.h), w(o.w), c(o.c), v(take_storage(o.v.size())) {
+    std::copy(o.v.begin(), o.v.end(), v.begin());
+  }
+  Map(Map&& o) noexcept = default;
+  Map& operator=(Map o) noexcept {  // the old storage goes back with `o`
+    std::swap(h, o.h), std::swap(w, o.w), std::swap(c, o.c), v.swap(o.v);
+    return *this;
+  }
+  ~Map() { give_storage(std::move(v)); }
   float* at(int y, int x) { return v.data() + (size_t(y) * w + x) * c; }
   const float* at(int y, int x) const { return v.data() + (size_t(y) * w + x) * c; }
 };
@@ -50,25 +82,26 @@ int same_pad_begin(int n, int stride, int k) {
   return std::max((same_out(n, stride) - 1) * stride + k - n, 0) / 2;
 }
 
-// 3x3 convolution over all input channels, filters [3][3][in][out] (the first layer).
+// 3x3 convolution over all input channels, filters [3][3][in][out] (the first layer): the 3x3
+// patches laid out as rows (zero outside x), then one matrix product with the filters, which are
+// already a (9 in) x out matrix.
 Map conv3x3(const Map& x, const Tensor& f, const Tensor& bias, int stride) {
-  const int out_c = f.shape[3];
-  Map y(same_out(x.h, stride), same_out(x.w, stride), out_c);
+  const int out_c = f.shape[3], taps = 9 * x.c;
+  Map patches(same_out(x.h, stride), same_out(x.w, stride), taps);
   const int py = same_pad_begin(x.h, stride, 3), px = same_pad_begin(x.w, stride, 3);
-  for (int r = 0; r < y.h; ++r)
-    for (int c = 0; c < y.w; ++c) {
-      float* o = y.at(r, c);
-      for (int k = 0; k < out_c; ++k) o[k] = bias.v[k];
+  for (int r = 0; r < patches.h; ++r)
+    for (int c = 0; c < patches.w; ++c) {
+      float* o = patches.at(r, c);
       for (int dy = 0; dy < 3; ++dy)
         for (int dx = 0; dx < 3; ++dx) {
           const int sy = r * stride + dy - py, sx = c * stride + dx - px;
-          if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
-          const float* in = x.at(sy, sx);
-          const float* w = f.v.data() + size_t((dy * 3 + dx) * x.c) * out_c;
-          for (int i = 0; i < x.c; ++i)
-            for (int k = 0; k < out_c; ++k) o[k] += in[i] * w[i * out_c + k];
+          if (sy >= 0 && sx >= 0 && sy < x.h && sx < x.w)
+            std::copy_n(x.at(sy, sx), x.c, o + (dy * 3 + dx) * x.c);
         }
     }
+  Map y(patches.h, patches.w, out_c);
+  pointwise_product(patches.v.data(), f.v.data(), bias.v.data(), y.v.data(), patches.h * patches.w,
+                    taps, out_c);
   return y;
 }
 
@@ -77,30 +110,14 @@ Map conv3x3(const Map& x, const Tensor& f, const Tensor& bias, int stride) {
 Map separable(const Map& x, const Tensor& depthwise, const Tensor& pointwise, const Tensor& bias,
               int stride) {
   Map d(same_out(x.h, stride), same_out(x.w, stride), x.c);
-  const int py = same_pad_begin(x.h, stride, 3), px = same_pad_begin(x.w, stride, 3);
-  for (int r = 0; r < d.h; ++r)
-    for (int c = 0; c < d.w; ++c) {
-      float* o = d.at(r, c);
-      for (int dy = 0; dy < 3; ++dy)
-        for (int dx = 0; dx < 3; ++dx) {
-          const int sy = r * stride + dy - py, sx = c * stride + dx - px;
-          if (sy < 0 || sx < 0 || sy >= x.h || sx >= x.w) continue;
-          const float* in = x.at(sy, sx);
-          const float* w = depthwise.v.data() + size_t(dy * 3 + dx) * x.c;
-          for (int i = 0; i < x.c; ++i) o[i] += in[i] * w[i];
-        }
-    }
-  // The pointwise step is one matrix product, (pixels x c) (c x out): Eigen's, which keeps its
-  // speed at the last blocks' 7x7 maps where cv::gemm falls back to a slow generic loop.
-  using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  depthwise3x3(x.v.data(), x.h, x.w, x.c, depthwise.v.data(), stride,
+               same_pad_begin(x.h, stride, 3), same_pad_begin(x.w, stride, 3), d.v.data(), d.h,
+               d.w);
+  // The pointwise step is one matrix product, (pixels x c) (c x out) + bias.
   const int out_c = pointwise.shape[3];
   Map y(d.h, d.w, out_c);
-  const Eigen::Map<const RowMajor> dm(d.v.data(), d.h * d.w, x.c);
-  const Eigen::Map<const RowMajor> pw(pointwise.v.data(), x.c, out_c);
-  const Eigen::Map<const Eigen::RowVectorXf> b(bias.v.data(), out_c);
-  Eigen::Map<RowMajor> ym(y.v.data(), d.h * d.w, out_c);
-  ym.noalias() = dm * pw;
-  ym.rowwise() += b;
+  pointwise_product(d.v.data(), pointwise.v.data(), bias.v.data(), y.v.data(), d.h * d.w, x.c,
+                    out_c);
   return y;
 }
 

@@ -91,7 +91,14 @@ std::optional<cv::Rect> haar_face(const cv::Mat& bgr, const std::string& dir, bo
   // A face to model fills a fifth of the photo's shorter side or is 100 px wide; smaller
   // windows, most of the search's time, are not tried.
   const int min_side = std::max(24, std::min(std::min(bgr.cols, bgr.rows) / 5, 100));
-  const auto r = detect(c.get(), g, min_side);
+  // Faces from a quarter of the shorter side first: the small windows are most of the search's
+  // time. A face found there at least 1.3x that size is found as by the whole search (the
+  // windows grouped into a face are within about 20 % of its size); any other outcome is
+  // settled by the whole search.
+  const int large = std::min(bgr.cols, bgr.rows) / 4;
+  std::vector<cv::Rect> r;
+  if (large > min_side) r = detect(c.get(), g, large);
+  if (r.empty() || r.front().width < 1.3 * large) r = detect(c.get(), g, min_side);
   if (r.empty()) return std::nullopt;
   return r.front() + area.tl();
 }

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
+#include <opencv2/objdetect.hpp>
 
 #include "sim/head.h"
 #include "sim/rig.h"
@@ -329,6 +330,37 @@ TEST(Haar, SearchesWithinAnAreaAndFromSeveralThreads) {
   EXPECT_THROW(ov::haar_face(cv::Mat(240, 320, CV_8UC1, cv::Scalar(80)), dir, false),
                std::invalid_argument);
   EXPECT_THROW(ov::haar_eyes(cv::Mat(), cv::Rect(0, 0, 10, 10), dir), std::invalid_argument);
+}
+
+// The search tries faces from a quarter of the shorter side first, then every size: a large face
+// and a small one get the box of one search over every size.
+TEST(Haar, LargeFacesAsTheWholeSearchFindsThemSmallOnesToo) {
+  const std::string dir = "/usr/share/opencv4/haarcascades";
+  const std::string file = dir + "/haarcascade_frontalface_default.xml";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "opencv-data cascades not installed";
+  const sim::Capture& cap = capture(1);  // a sim face the cascade finds
+  cv::CascadeClassifier whole(file);
+  const auto search = [&](const cv::Mat& bgr) {
+    cv::Mat g;
+    cv::cvtColor(bgr, g, cv::COLOR_BGR2GRAY);
+    cv::equalizeHist(g, g);
+    std::vector<cv::Rect> r;
+    const int min_side = std::max(24, std::min(std::min(bgr.cols, bgr.rows) / 5, 100));
+    whole.detectMultiScale(g, r, 1.1, 4, 0, cv::Size(min_side, min_side));
+    return r;
+  };
+  const std::vector<cv::Rect> all = search(cap.front);
+  ASSERT_EQ(all.size(), 1u);
+  ASSERT_GT(all[0].width, cap.front.rows / 4);  // a large face
+  EXPECT_EQ(ov::haar_face(cap.front, dir, false), all[0]);
+  // The photo in the corner of a canvas so large that the face is below a quarter of its
+  // shorter side, searched within the photo's own part: found where the whole search found it.
+  const int side = 9 * all[0].width / 2;
+  cv::Mat canvas;
+  cv::copyMakeBorder(cap.front, canvas, 0, std::max(0, side - cap.front.rows), 0,
+                     std::max(0, side - cap.front.cols), cv::BORDER_CONSTANT, cv::Scalar::all(128));
+  ASSERT_LT(all[0].width, std::min(canvas.rows, canvas.cols) / 4);
+  EXPECT_EQ(ov::haar_face(canvas, dir, false, cv::Rect(cv::Point(0, 0), cap.front.size())), all[0]);
 }
 
 // The front photo's face, before the silhouette: the network's points near the true eyes when
