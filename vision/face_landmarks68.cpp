@@ -125,11 +125,16 @@ void relu(Map& x) {
   for (float& a : x.v) a = std::max(a, 0.0f);
 }
 
-Map sum(std::initializer_list<const Map*> maps) {
-  Map out = **maps.begin();
-  for (auto it = std::next(maps.begin()); it != maps.end(); ++it)
-    for (size_t k = 0; k < out.v.size(); ++k) out.v[k] += (*it)->v[k];
-  return out;
+// acc += x.
+void add(Map& acc, const Map& x) {
+  for (size_t k = 0; k < acc.v.size(); ++k) acc.v[k] += x.v[k];
+}
+
+// max(x, 0) as a new map.
+Map relu_of(const Map& x) {
+  Map y(x.h, x.w, x.c);
+  for (size_t k = 0; k < x.v.size(); ++k) y.v[k] = std::max(x.v[k], 0.0f);
+  return y;
 }
 
 }  // namespace
@@ -154,16 +159,14 @@ struct FaceLandmarker68::Net {
     };
     Map out1 = first ? conv3x3(x, t(b + "/conv0/filters"), t(b + "/conv0/bias"), 2) : sep(x, 0, 2);
     relu(out1);
-    const Map out2 = sep(out1, 1, 1);
-    Map in3 = sum({&out1, &out2});
-    relu(in3);
-    const Map out3 = sep(in3, 2, 1);
-    Map in4 = sum({&out1, &out2, &out3});
-    relu(in4);
-    const Map out4 = sep(in4, 3, 1);
-    Map out = sum({&out1, &out2, &out3, &out4});
-    relu(out);
-    return out;
+    // The inputs of the block's later convolutions are the running sum of its outputs (added in
+    // the order they came, as the model's sums), each through a ReLU.
+    Map acc = out1;
+    add(acc, sep(out1, 1, 1));
+    add(acc, sep(relu_of(acc), 2, 1));
+    add(acc, sep(relu_of(acc), 3, 1));
+    relu(acc);
+    return acc;
   }
 
   std::array<float, 136> run(const Map& input) const {
