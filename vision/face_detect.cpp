@@ -97,7 +97,7 @@ FoundFace find_face(const cv::Mat& image, int coarser_levels) {
   if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
   const double side = 1.2 * std::max(out.box.width, out.box.height);
   const cv::Point2d c = (out.box.tl() + out.box.br()) * 0.5;
-  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side});
+  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side}, 3);
   out.points.assign(f.points.begin(), f.points.end());
   if (cv::norm(f.points[45] - f.points[36]) > 1e-6)
     out.turn = turn_index(f.points[36], f.points[45], f.points[30]);
