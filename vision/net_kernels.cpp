@@ -78,27 +78,11 @@ __attribute__((target("avx2,fma"))) void vectorised(const float* x, const float*
     int p = 0;
     for (; p + 6 <= n; p += 6)
       rows_by_16<6>(x + size_t(p) * k, w + o, bias + o, y + size_t(p) * m + o, k, m);
-    const float* xr = x + size_t(p) * k;
-    float* yr = y + size_t(p) * m + o;
-    switch (n - p) {
-      case 5:
-        rows_by_16<5>(xr, w + o, bias + o, yr, k, m);
-        break;
-      case 4:
-        rows_by_16<4>(xr, w + o, bias + o, yr, k, m);
-        break;
-      case 3:
-        rows_by_16<3>(xr, w + o, bias + o, yr, k, m);
-        break;
-      case 2:
-        rows_by_16<2>(xr, w + o, bias + o, yr, k, m);
-        break;
-      case 1:
-        rows_by_16<1>(xr, w + o, bias + o, yr, k, m);
-        break;
-      default:
-        break;
-    }
+    // The last n % 6 rows, by the kernel of their count.
+    using Rows = void (*)(const float*, const float*, const float*, float*, int, int);
+    static constexpr Rows kRest[6] = {nullptr,       rows_by_16<1>, rows_by_16<2>,
+                                      rows_by_16<3>, rows_by_16<4>, rows_by_16<5>};
+    if (n > p) kRest[n - p](x + size_t(p) * k, w + o, bias + o, y + size_t(p) * m + o, k, m);
   }
 }
 
