@@ -15,6 +15,10 @@ namespace orthoface::vision {
 namespace {
 
 constexpr double kMinFaceFraction = 7;  // smallest face found: 1/7 of the shorter side
+// Crops refined from the network's own points after its first pass, at most, as the front's
+// (observe_front.cpp): the turn index needs no more (seven moved the input check's side angles
+// by up to 11 degrees and none of its outcomes, input_check_bench).
+constexpr int kRefinements = 3;
 
 // Decoding dlib's embedded detector takes about 0.3 s: once per process (observe() does it
 // first, on the thread that finds the side photo's face while the front is segmented).
@@ -97,7 +101,8 @@ FoundFace find_face(const cv::Mat& image, int coarser_levels) {
   if (image.channels() == 1) cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
   const double side = 1.2 * std::max(out.box.width, out.box.height);
   const cv::Point2d c = (out.box.tl() + out.box.br()) * 0.5;
-  const FaceLandmarks68 f = net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side}, 3);
+  const FaceLandmarks68 f =
+      net->detect_in(bgr, {c.x - side / 2, c.y - side / 2, side, side}, kRefinements);
   out.points.assign(f.points.begin(), f.points.end());
   if (cv::norm(f.points[45] - f.points[36]) > 1e-6)
     out.turn = turn_index(f.points[36], f.points[45], f.points[30]);

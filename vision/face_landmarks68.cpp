@@ -31,7 +31,8 @@ const char* const kManifestFile = "face_landmark_68_model-weights_manifest.json"
 
 // The storage of feature maps, kept per thread: a pass makes the same maps in the same sizes
 // every time, and fresh ones (up to 400 KB, beyond the allocator's reuse) cost a page fault every
-// 4 KB and the kernel's zeroing, about half a pass's time.
+// 4 KB and the kernel's zeroing, about half a pass's time. At most 32 buffers a thread are kept
+// (a pass makes fewer; the largest is 400 KB).
 std::vector<std::vector<float>>& spare_storage() {
   thread_local std::vector<std::vector<float>> spare;
   return spare;

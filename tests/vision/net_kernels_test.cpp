@@ -1,6 +1,7 @@
 #include "vision/net_kernels.h"
 
 #include <cmath>
+#include <iostream>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -21,6 +22,7 @@ std::vector<float> random_values(size_t n, unsigned seed) {
 // Both kernels (the vector one where this CPU has it) against the product written out, over
 // the network's shapes and row counts that leave every remainder of the six-row blocks.
 TEST(PointwiseProduct, BothKernelsGiveTheProductWrittenOut) {
+  if (!has_vector_units()) std::cout << "this CPU has no AVX2 + FMA: the portable kernel only\n";
   struct Shape {
     int n, k, m;
   };
@@ -43,35 +45,37 @@ TEST(PointwiseProduct, BothKernelsGiveTheProductWrittenOut) {
   }
 }
 
+// Strides 1 and 2, with TensorFlow's 'same' padding (one pixel before) and without it (the
+// last row and column then reach past the map): zero outside x either way.
 TEST(DepthwiseConvolution, BothKernelsGiveTheSumWrittenOutWithZeroOutside) {
   const int h = 9, w = 7, c = 24;
   const std::vector<float> x = random_values(size_t(h) * w * c, 4), f = random_values(9 * c, 5);
-  for (int stride : {1, 2}) {
-    const int oh = (h + stride - 1) / stride, ow = (w + stride - 1) / stride;
-    const int pad = stride == 1 ? 1 : 0;  // TensorFlow's 'same' for these sizes
-    for (bool vector_units : {false, true}) {
-      std::vector<float> y(size_t(oh) * ow * c, NAN);
-      depthwise3x3(x.data(), h, w, c, f.data(), stride, pad, pad, y.data(), oh, ow, vector_units);
-      for (int r = 0; r < oh; ++r)
-        for (int q = 0; q < ow; ++q)
-          for (int i = 0; i < c; ++i) {
-            double want = 0;
-            for (int dy = 0; dy < 3; ++dy)
-              for (int dx = 0; dx < 3; ++dx) {
-                const int sy = r * stride + dy - pad, sx = q * stride + dx - pad;
-                if (sy >= 0 && sx >= 0 && sy < h && sx < w)
-                  want += double(x[(size_t(sy) * w + sx) * c + i]) * f[(dy * 3 + dx) * c + i];
-              }
-            ASSERT_NEAR(y[(size_t(r) * ow + q) * c + i], want, 1e-5)
-                << "stride " << stride << " vector " << vector_units;
-          }
+  for (int stride : {1, 2})
+    for (int pad : {0, 1}) {
+      const int oh = (h + stride - 1) / stride, ow = (w + stride - 1) / stride;
+      for (bool vector_units : {false, true}) {
+        std::vector<float> y(size_t(oh) * ow * c, NAN);
+        depthwise3x3(x.data(), h, w, c, f.data(), stride, pad, pad, y.data(), oh, ow, vector_units);
+        for (int r = 0; r < oh; ++r)
+          for (int q = 0; q < ow; ++q)
+            for (int i = 0; i < c; ++i) {
+              double want = 0;
+              for (int dy = 0; dy < 3; ++dy)
+                for (int dx = 0; dx < 3; ++dx) {
+                  const int sy = r * stride + dy - pad, sx = q * stride + dx - pad;
+                  if (sy >= 0 && sx >= 0 && sy < h && sx < w)
+                    want += double(x[(size_t(sy) * w + sx) * c + i]) * f[(dy * 3 + dx) * c + i];
+                }
+              ASSERT_NEAR(y[(size_t(r) * ow + q) * c + i], want, 1e-5)
+                  << "stride " << stride << " pad " << pad << " vector " << vector_units;
+            }
+      }
     }
-  }
 }
 
 TEST(NetKernels, BadArgumentsThrow) {
-  const std::vector<float> a(64, 1.0f);
-  float* y = const_cast<float*>(a.data());
+  std::vector<float> a(64, 1.0f), out(64, 0.0f);
+  float* y = out.data();
   EXPECT_THROW(pointwise_product(nullptr, a.data(), a.data(), y, 2, 2, 2), std::invalid_argument);
   EXPECT_THROW(pointwise_product(a.data(), a.data(), a.data(), y, 0, 2, 2), std::invalid_argument);
   EXPECT_THROW(pointwise_product(a.data(), a.data(), a.data(), y, 2, 2, -1), std::invalid_argument);
