@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -335,9 +336,36 @@ int run_similarity_matrix(const fs::path& dir, const fs::path& out, int rank, in
   return int(good.size()) == n ? 0 : 1;
 }
 
+// Open MPI 4 keeps a session directory per job under one shared folder of the temporary
+// directory; single processes started side by side (a script's loop, a test suite) race on
+// creating and removing that folder, and the loser's MPI_Init fails (open-mpi/ompi#8510). Started
+// without mpirun, each process gets a folder of its own (removed at exit); under mpirun, or when
+// the user sets orte_tmpdir_base, Open MPI's own choice stands.
+class OwnSessionFolder {
+ public:
+  OwnSessionFolder() {
+    if (std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("OMPI_MCA_orte_tmpdir_base")) return;
+    const char* tmp = std::getenv("TMPDIR");
+    std::string templ = std::string(tmp && *tmp ? tmp : "/tmp") + "/orthoface-batch-XXXXXX";
+    if (!mkdtemp(templ.data())) return;  // Open MPI's default then; its own error if that fails
+    dir_ = templ;
+    setenv("OMPI_MCA_orte_tmpdir_base", dir_.c_str(), 1);
+  }
+  ~OwnSessionFolder() {
+    std::error_code ec;
+    if (!dir_.empty()) fs::remove_all(dir_, ec);
+  }
+  OwnSessionFolder(const OwnSessionFolder&) = delete;
+  OwnSessionFolder& operator=(const OwnSessionFolder&) = delete;
+
+ private:
+  std::string dir_;
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  const OwnSessionFolder session_folder;
   MPI_Init(&argc, &argv);
   int rank = 0, size = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);

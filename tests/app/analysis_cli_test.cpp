@@ -155,6 +155,37 @@ TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   expect_clean_error(run("'" + batch.string() + "'", "similarity nowhere -o x", w), "nowhere");
 }
 
+// Started without mpirun, orthoface-batch keeps Open MPI's session files in a folder of its own
+// and removes it: side-by-side runs (a test suite, a shell loop) no longer race on one shared
+// session folder, and nothing is left in the temporary directory (Open MPI's singleton left a
+// pid.N folder behind after every run).
+TEST(AnalysisCli, BatchRunsSideBySideAndLeavesNoSessionFiles) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch_session");
+  fs::create_directories(w / "meshes");
+  fs::create_directories(w / "tmp");
+  sim::HeadOptions o;
+  o.target_triangles = 1000;
+  for (int s = 0; s < 2; ++s)
+    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                     (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+  const std::string env = "env -u OMPI_MCA_orte_tmpdir_base TMPDIR='" + (w / "tmp").string() + "' ";
+  // Six at once, each writing its exit code; a lost race is a non-zero code.
+  std::string loop;
+  for (int k = 0; k < 6; ++k)
+    loop += "(" + env + "'" + batch.string() + "' similarity meshes -o out" + std::to_string(k) +
+            " >/dev/null 2>&1; echo $? > rc" + std::to_string(k) + ") & ";
+  ASSERT_EQ(testing::run_in(w, "{ " + loop + "wait; }").code, 0);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(slurp(w / ("rc" + std::to_string(k))), "0\n") << "run " << k;
+    EXPECT_TRUE(fs::exists(w / ("out" + std::to_string(k)) / "similarity_shape_index.csv"));
+  }
+  const Result bad = run(env + "'" + batch.string() + "'", "similarity nowhere -o x", w);
+  expect_clean_error(bad, "nowhere");
+  EXPECT_TRUE(fs::is_empty(w / "tmp")) << (*fs::directory_iterator(w / "tmp")).path();
+}
+
 // orthoface-batch similarity never writes NaN (it once wrote a NaN row and column for every mesh
 // without a signature, and a NaN cell for a metric constant on a face): a flat grid (no
 // curvature anywhere) and a degenerate mesh are each one error line naming the file and a failed
