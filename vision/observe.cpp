@@ -167,6 +167,7 @@ struct SideWork {
   FoundFace face;
   SideCamera camera = SideCamera::Auto;  // as given, or as the face found decided
   SideResult result;
+  bool cut = false;  // cut out of a busy scene (its own border or the front's cut said so)
   std::vector<std::string> warnings;
 };
 SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
@@ -193,6 +194,7 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
       const SceneCut cut = cut_side(side, *hint.head, w.blob.prob);
       w.blob.prob = cut.probability, w.blob.mask = cut.mask;
       w.blob.blobs = cut.mask.empty() ? 0 : 1;
+      w.cut = true;
       if (!hint.front_cut)
         w.warnings.push_back("side view: busy background (" +
                              (colours > kBusyBorderColours
@@ -288,6 +290,27 @@ cv::Rect2d face_box(const FaceLandmarks68& f) {
   return cv::Rect2d(x0, y0, x1 - x0, f.points[8].y - y0);
 }
 
+// The front's subject cut out around the face (vision/scene_cut.h) in place of its border-colour
+// blob, `why` saying in the warning what showed the scene busy. False (the blob kept) when the
+// cut falls short of the eyes.
+bool cut_front_from_scene(const cv::Mat& front, const cv::Rect2d& box, double row_scale,
+                          const std::string& why, FrontHead& head, FrontHint& hint,
+                          std::vector<std::string>& warn) {
+  const SceneCut cut = cut_front(front, box, head.probability);
+  try {
+    hint.head = side_hint(front, cut.mask, box, row_scale);
+  } catch (const std::invalid_argument&) {  // a cut short of the eyes: keep the blob
+    return false;
+  }
+  head.probability = cut.probability, head.mask = cut.mask, head.blobs = 1;
+  hint.front_cut = true;
+  warn.push_back("front view: busy background (" + why +
+                 "): the subject was cut out around the face, and out of the side photo where "
+                 "its colours gather; clean plates (--front-background / --side-background) do "
+                 "better");
+  return true;
+}
+
 // Without a clean plate, a front blob that spills into the scene beside the face (vision/
 // scene_cut.h) is replaced by the subject cut out around the face; the side learns where the
 // front's head is either way, to check its own blob or cut it too.
@@ -310,23 +333,11 @@ void cut_out_of_scene(const cv::Mat& front, const ObserveOptions& o, double row_
     }
   }
   if (colours > kBusyBorderColours || spill > kSceneSpill) {
-    const SceneCut cut = cut_front(front, box, head.probability);
-    try {
-      hint.head = side_hint(front, cut.mask, box, row_scale);
-    } catch (const std::invalid_argument&) {  // a cut short of the eyes: keep the blob
-      return;
-    }
-    head.probability = cut.probability, head.mask = cut.mask, head.blobs = 1;
-    hint.front_cut = true;
-    warn.push_back(
-        "front view: busy background (" +
-        (colours > kBusyBorderColours
-             ? std::to_string(colours) + " colours along the photo's border"
-             : "the head's blob spilled " + std::to_string(spill).substr(0, 4) +
-                   " face areas into the scene") +
-        "): the subject was cut out around the face, and out of the side photo where its "
-        "colours gather; clean plates (--front-background / --side-background) do better");
-    return;
+    const std::string why = colours > kBusyBorderColours
+                                ? std::to_string(colours) + " colours along the photo's border"
+                                : "the head's blob spilled " + std::to_string(spill).substr(0, 4) +
+                                      " face areas into the scene";
+    if (cut_front_from_scene(front, box, row_scale, why, head, hint, warn)) return;
   }
   try {
     hint.head = side_hint(front, head.mask, box, row_scale);
@@ -396,6 +407,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   };
   FrontHead head;
   FrontFace front_face;
+  FrontHint hint;
   bool min_h_set = false;
   try {
     head = segment_front(front, bgf);
@@ -405,7 +417,6 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     bool searched_blob = !head.mask.empty();
     if (!front_face.found && bgf.empty() && searched_blob)  // a blob beside the head
       front_face = find_front_face(front, o), searched_blob = false;
-    FrontHint hint;
     if (bgf.empty() && front_face.found)
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
     hint.min_h = min_h(head);
@@ -416,6 +427,15 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     throw;
   }
   SideWork side_done = side_task.get();
+  // The two cameras stand in one room: a side photo cut out of a busy scene says the front's
+  // border colours, few as they were, missed some of it (a pencil or a disc on the desk behind
+  // the head joins the front blob, and in a close-up scene_spill's reach lies beyond the frame).
+  if (side_done.cut && !hint.front_cut && bgf.empty() && front_face.found) {
+    const cv::Rect2d box = face_box(*front_face.found);
+    if (box.width > 1 && box.height > 1)
+      cut_front_from_scene(front, box, row_scale, "the side photo's scene is", head, hint,
+                           obs.warnings);
+  }
   obs.side_face = side_done.face;
   obs.front_blob = head.mask;
   obs.side_blob = side_done.blob.mask;
