@@ -291,10 +291,10 @@ cv::Rect2d face_box(const FaceLandmarks68& f) {
 }
 
 // The front's subject cut out around the face (vision/scene_cut.h) in place of its border-colour
-// blob, `why` saying in the warning what showed the scene busy. False (the blob kept) when the
-// cut falls short of the eyes.
+// blob, `why` saying in the warning what showed the scene busy (`side_too`: the side photo is or
+// will be cut as well). False (the blob kept) when the cut falls short of the eyes.
 bool cut_front_from_scene(const cv::Mat& front, const cv::Rect2d& box, double row_scale,
-                          const std::string& why, FrontHead& head, FrontHint& hint,
+                          const std::string& why, bool side_too, FrontHead& head, FrontHint& hint,
                           std::vector<std::string>& warn) {
   const SceneCut cut = cut_front(front, box, head.probability);
   try {
@@ -305,9 +305,9 @@ bool cut_front_from_scene(const cv::Mat& front, const cv::Rect2d& box, double ro
   head.probability = cut.probability, head.mask = cut.mask, head.blobs = 1;
   hint.front_cut = true;
   warn.push_back("front view: busy background (" + why +
-                 "): the subject was cut out around the face, and out of the side photo where "
-                 "its colours gather; clean plates (--front-background / --side-background) do "
-                 "better");
+                 "): the subject was cut out around the face" +
+                 (side_too ? ", and out of the side photo where its colours gather" : "") +
+                 "; clean plates (--front-background / --side-background) do better");
   return true;
 }
 
@@ -337,7 +337,7 @@ void cut_out_of_scene(const cv::Mat& front, const ObserveOptions& o, double row_
                                 ? std::to_string(colours) + " colours along the photo's border"
                                 : "the head's blob spilled " + std::to_string(spill).substr(0, 4) +
                                       " face areas into the scene";
-    if (cut_front_from_scene(front, box, row_scale, why, head, hint, warn)) return;
+    if (cut_front_from_scene(front, box, row_scale, why, true, head, hint, warn)) return;
   }
   try {
     hint.head = side_hint(front, head.mask, box, row_scale);
@@ -430,11 +430,20 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   // The two cameras stand in one room: a side photo cut out of a busy scene says the front's
   // border colours, few as they were, missed some of it (a pencil or a disc on the desk behind
   // the head joins the front blob, and in a close-up scene_spill's reach lies beyond the frame).
-  if (side_done.cut && !hint.front_cut && bgf.empty() && front_face.found) {
+  // A front blob wider than the side's head is deep holds some of the scene too.
+  if (!hint.front_cut && bgf.empty() && front_face.found) {
     const cv::Rect2d box = face_box(*front_face.found);
-    if (box.width > 1 && box.height > 1)
-      cut_front_from_scene(front, box, row_scale, "the side photo's scene is", head, hint,
+    const double ratio = box.width > 1 && box.height > 1
+                             ? head_width_to_depth(head.mask, side_done.blob.mask, box, row_scale)
+                             : 0.0;
+    if (side_done.cut)
+      cut_front_from_scene(front, box, row_scale, "the side photo's scene is", true, head, hint,
                            obs.warnings);
+    else if (ratio > kSceneWidthToDepth)
+      cut_front_from_scene(front, box, row_scale,
+                           "the head's blob is " + std::to_string(ratio).substr(0, 4) +
+                               " times as wide as the side photo's head is deep",
+                           false, head, hint, obs.warnings);
   }
   obs.side_face = side_done.face;
   obs.front_blob = head.mask;

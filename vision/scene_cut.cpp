@@ -186,6 +186,31 @@ double scene_spill(const cv::Mat& mask, const cv::Rect2d& face) {
   return outside / face.area();
 }
 
+double head_width_to_depth(const cv::Mat& front_mask, const cv::Mat& side_mask,
+                           const cv::Rect2d& face, double row_scale) {
+  if (!(face.width > 1 && face.height > 1))
+    throw std::invalid_argument("head_width_to_depth: the face box is empty");
+  for (const cv::Mat* m : {&front_mask, &side_mask})
+    if (!m->empty() && m->type() != CV_8U)
+      throw std::invalid_argument("head_width_to_depth: expected CV_8U masks");
+  if (!(row_scale > 0 && std::isfinite(row_scale)))
+    throw std::invalid_argument("head_width_to_depth: row_scale must be positive");
+  if (front_mask.empty() || side_mask.empty()) return 0.0;
+  // The widest row of `mask` between front rows r0 and r1 (`scale`: front rows per mask row).
+  const auto widest = [&](const cv::Mat& mask, double scale) {
+    const RowExtent e = row_extent(mask);
+    double w = 0;
+    if (e.top < 0) return w;
+    const int r0 = std::max(e.top, int(face.y / scale));
+    const int r1 = std::min(e.bottom, int((face.y + 0.7 * face.height) / scale));
+    for (int r = r0; r <= r1; ++r)
+      if (e.left[r] >= 0) w = std::max(w, double(e.right[r] - e.left[r] + 1));
+    return w * scale;  // side columns are side rows' pixels: in front pixels
+  };
+  const double width = widest(front_mask, 1.0), depth = widest(side_mask, row_scale);
+  return width > 0 && depth > 0 ? width / depth : 0.0;
+}
+
 SceneCut cut_front(const cv::Mat& front, const cv::Rect2d& face, const cv::Mat& border) {
   require_bgr(front, "cut_front");
   require_face(face, front.size(), "cut_front");

@@ -23,6 +23,17 @@ namespace orthoface::vision {
 inline constexpr double kSceneSpill = 0.25;
 double scene_spill(const cv::Mat& mask, const cv::Rect2d& face);
 
+// The front blob's widest row over the side blob's deepest on the face's rows, from the face
+// box's top to 0.7 of its height (`face` as for scene_spill, in the front photo; `row_scale`:
+// front rows per side row). A head is longer, front to back, than it is wide (the cephalic index
+// reaches about 0.9), hair included: on the 26 FRMDB pairs 0.73-1.07, sim heads 0.88-0.98. A
+// front blob that an object on the desk behind joined (a disc beside the cheek) is wider: 1.26.
+// 0 when either mask is empty or holds none of those rows. Throws std::invalid_argument on an
+// empty face box, a mask that is not CV_8U or a row_scale that is not positive.
+inline constexpr double kSceneWidthToDepth = 1.15;
+double head_width_to_depth(const cv::Mat& front_mask, const cv::Mat& side_mask,
+                           const cv::Rect2d& face, double row_scale);
+
 struct SceneCut {
   cv::Mat probability;  // CV_32F 0..1, the cut smoothed by a pixel (as foreground_probability)
   cv::Mat mask;         // CV_8U 0 / 255, the subject's blob, holes filled; empty when none
