@@ -132,16 +132,21 @@ TEST(AnalysisCli, SimilarityNeedsTwoMeshesAndScoresAPair) {
   EXPECT_TRUE(fs::exists(w / "mat" / "similarity_shape_index.png"));
 }
 
+// `count` sim heads (seeds 0..count-1, about `triangles` triangles) as work/meshes/h<seed>.ply.
+void write_sim_meshes(const fs::path& work, int count, int triangles) {
+  fs::create_directories(work / "meshes");
+  sim::HeadOptions o;
+  o.target_triangles = triangles;
+  for (int s = 0; s < count; ++s)
+    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
+                     (work / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+}
+
 TEST(AnalysisCli, BatchUnderMpirunMatchesSingleProcess) {
   const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
   if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
   const fs::path w = testing::temp_dir("analysis_cli_batch");
-  fs::create_directories(w / "meshes");
-  sim::HeadOptions o;
-  o.target_triangles = 2000;
-  for (int s = 0; s < 4; ++s)
-    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
-                     (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
+  write_sim_meshes(w, 4, 2000);
   const Result one = run("'" + batch.string() + "'", "similarity meshes -o one", w);
   ASSERT_EQ(one.code, 0) << one.err;
   if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "no mpirun";
@@ -163,13 +168,8 @@ TEST(AnalysisCli, BatchRunsSideBySideAndLeavesNoSessionFiles) {
   const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
   if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
   const fs::path w = testing::temp_dir("analysis_cli_batch_session");
-  fs::create_directories(w / "meshes");
+  write_sim_meshes(w, 2, 1000);
   fs::create_directories(w / "tmp");
-  sim::HeadOptions o;
-  o.target_triangles = 1000;
-  for (int s = 0; s < 2; ++s)
-    mesh::write_mesh(sim::make_head(sim::head_params(s), o).mesh,
-                     (w / "meshes" / ("h" + std::to_string(s) + ".ply")).string());
   const std::string env = "env -u OMPI_MCA_orte_tmpdir_base TMPDIR='" + (w / "tmp").string() + "' ";
   // Six at once, each writing its exit code; a lost race is a non-zero code.
   std::string loop;
