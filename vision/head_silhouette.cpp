@@ -106,8 +106,7 @@ Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
     side_grown = std::async(std::launch::async, grow, std::cref(side), std::cref(obs.side_blob),
                             side_box, std::cref(o));
   }
-  if (!obs.front_blob.empty() && !obs.front_blob_cut)
-    out.front = grow(front, obs.front_blob, front_box, o);
+  if (!obs.front_blob.empty()) out.front = grow(front, obs.front_blob, front_box, o);
   if (side_grown.valid()) out.side = side_grown.get();
   return out;
 }

@@ -22,12 +22,9 @@ struct SilhouetteOptions {
 // CV_8U 0 / 255 masks of the subject (head, hair, neck and whatever of the body the photo shows)
 // in the front and the side photo: observation.front_blob / side_blob as definite subject, the
 // head's box (placed by the front eyes, the centre line, and the side photo's nose tip) as
-// possible subject, the rest as background. Where a blob or a feature is missing, or the front
-// blob was cut out of a busy scene (observation.front_blob_cut: the cut holds the hair already,
-// and growing it into the head's box took sky and walls for hair), that photo's blob is returned
-// as it is (possibly empty). A side blob cut out of a scene is still grown: the side's cut, placed
-// by the front's colours, misses more of the head than the growth adds of the scene. Throws
-// std::invalid_argument when a photo is not 8-bit BGR or differs in size from its observation.
+// possible subject, the rest as background. Where a blob or a feature is missing, that photo's
+// blob is returned as it is (possibly empty). Throws std::invalid_argument when a photo is not
+// 8-bit BGR or differs in size from its observation.
 struct Silhouettes {
   cv::Mat front, side;
 };

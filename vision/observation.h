@@ -67,10 +67,6 @@ struct FaceObservation {
   // The head blobs vision cut out of each photo (CV_8U 0 / 255, vision::head_mask; empty when
   // none was found). Not written to observation.json.
   cv::Mat front_blob, side_blob;
-  // Whether the front blob was cut out of a busy scene around the face (vision/scene_cut.h)
-  // rather than taken from the border colours: the cut holds the subject's hair already. Not
-  // written to observation.json.
-  bool front_blob_cut = false;
   // The trained front landmarker's own points (names from vision/landmarks.h, front pixels),
   // before the consensus replaced any by the filters', with the user's front landmarks
   // (ObserveOptions::front_landmarks) in their place; empty when neither ran. The midline

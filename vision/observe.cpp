@@ -448,7 +448,6 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   obs.side_face = side_done.face;
   obs.front_blob = head.mask;
   obs.side_blob = side_done.blob.mask;
-  obs.front_blob_cut = hint.front_cut;
   for (auto& w : side_done.warnings) obs.warnings.push_back(std::move(w));
   const SideResult& s = side_done.result;
   if (side_done.camera != o.side_camera && s.seen_faces_left != s.faces_left &&

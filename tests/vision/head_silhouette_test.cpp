@@ -67,18 +67,6 @@ TEST(SubjectSilhouettes, GrowTheBlobIntoTheHairItMissed) {
   EXPECT_LT(share(s.front, background), 0.02);
 }
 
-// A front blob cut out of a busy scene holds the hair already; growing it took sky and walls.
-TEST(SubjectSilhouettes, AFrontBlobCutOutOfASceneIsKeptTheSideGrown) {
-  const Photo front(false), side(true);
-  FaceObservation o = observation();
-  o.front_blob = front.face.clone();
-  o.side_blob = side.face.clone();
-  o.front_blob_cut = true;
-  const Silhouettes s = subject_silhouettes(front.image, side.image, o);
-  EXPECT_EQ(cv::countNonZero(s.front != front.face), 0);
-  EXPECT_GT(share(s.side, side.hair), 0.9);
-}
-
 TEST(SubjectSilhouettes, WithoutTheEyesTheBlobsStayAsTheyAre) {
   const Photo front(false), side(true);
   FaceObservation o = observation();
