@@ -167,7 +167,8 @@ struct SideWork {
   FoundFace face;
   SideCamera camera = SideCamera::Auto;  // as given, or as the face found decided
   SideResult result;
-  bool cut = false;  // cut out of a busy scene (its own border or the front's cut said so)
+  bool cut = false;   // cut out of a busy scene (its own border or the front's cut said so)
+  bool busy = false;  // its scene is busy (its own border or blob said so), plate or not
   std::vector<std::string> warnings;
 };
 SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
@@ -184,13 +185,19 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   std::vector<std::string> warnings;
   w.result = observe_side(side, w.blob, w.camera, min_h.get(), warnings);
   // The side photo's own border, measured while the front's work may still run.
-  const int colours = bg.empty() ? border_colour_count(side) : 0;
+  const int colours = border_colour_count(side);
   const FrontHint& hint = front.get();
+  // The side's scene is busy when its border is or when the border colours' blob leaves out the
+  // subject's colours (skin-coloured walls, wood). With a plate the side is cut by difference,
+  // and what its border says still tells the front (one room).
+  double missed = 0;
+  if (hint.head) {
+    missed = side_missed(side, bg.empty() ? w.blob.mask : side_blob(side, {}).mask, *hint.head);
+    w.busy = colours > kBusyBorderColours || missed > kSideMissed;
+  }
   if (hint.head && bg.empty()) {
-    // The side is cut out like the front (the same room), or when its own border is busy or its
-    // blob leaves out the subject's colours (skin-coloured walls, wood).
-    const double missed = side_missed(side, w.blob.mask, *hint.head);
-    if (hint.front_cut || colours > kBusyBorderColours || missed > kSideMissed) {
+    // The side is cut out like the front (the same room), or when its own scene is busy.
+    if (hint.front_cut || w.busy) {
       const SceneCut cut = cut_side(side, *hint.head, w.blob.prob);
       w.blob.prob = cut.probability, w.blob.mask = cut.mask;
       w.blob.blobs = cut.mask.empty() ? 0 : 1;
@@ -290,6 +297,18 @@ cv::Rect2d face_box(const FaceLandmarks68& f) {
   return cv::Rect2d(x0, y0, x1 - x0, f.points[8].y - y0);
 }
 
+// Where the front's head is, for the side photo, from the front's blob; none when the blob falls
+// short of the eyes (the side keeps its own).
+std::optional<SideHint> head_hint(const cv::Mat& front, const cv::Mat& mask, const cv::Rect2d& box,
+                                  double row_scale) {
+  if (!(box.width > 1 && box.height > 1)) return std::nullopt;
+  try {
+    return side_hint(front, mask, box, row_scale);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;
+  }
+}
+
 // The front's subject cut out around the face (vision/scene_cut.h) in place of its border-colour
 // blob, `why` saying in the warning what showed the scene busy (`side_too`: the side photo is or
 // will be cut as well). False (the blob kept) when the cut falls short of the eyes.
@@ -339,10 +358,7 @@ void cut_out_of_scene(const cv::Mat& front, const ObserveOptions& o, double row_
                                       " face areas into the scene";
     if (cut_front_from_scene(front, box, row_scale, why, true, head, hint, warn)) return;
   }
-  try {
-    hint.head = side_hint(front, head.mask, box, row_scale);
-  } catch (const std::invalid_argument&) {  // a blob short of the eyes: the side keeps its own
-  }
+  hint.head = head_hint(front, head.mask, box, row_scale);
 }
 
 void check_sizes(const cv::Mat& f, const cv::Mat& s, double ratio) {
@@ -419,6 +435,8 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
       front_face = find_front_face(front, o), searched_blob = false;
     if (bgf.empty() && front_face.found)
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
+    else if (front_face.found)  // cut by its plate: the side learns where the head is all the same
+      hint.head = head_hint(front, head.mask, face_box(*front_face.found), row_scale);
     hint.min_h = min_h(head);
     hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it
@@ -436,7 +454,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     const double ratio = box.width > 1 && box.height > 1
                              ? head_width_to_depth(head.mask, side_done.blob.mask, box, row_scale)
                              : 0.0;
-    if (side_done.cut)
+    if (side_done.busy)
       cut_front_from_scene(front, box, row_scale, "the side photo's scene is", true, head, hint,
                            obs.warnings);
     else if (ratio > kSceneWidthToDepth)
