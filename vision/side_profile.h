@@ -43,8 +43,11 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
 void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);
 
 // True when `curve` (a left-facing front profile, top to bottom, ~1 px steps) has a nose tip in
-// the face band of a head `head_height_px` tall and, below it, the long backward run under the
-// chin: the shape of a face. The back of a head or a hair / skin border does not have both.
+// the face band of a head `head_height_px` tall, below it the long backward run under the chin,
+// and between the two a step back of at least kFaceStepBack x the head height behind the chord
+// from tip to throat: the shape of a face. The back of a head or a hair / skin border does not
+// have all three.
+inline constexpr double kFaceStepBack = 0.015;
 bool reads_as_face_profile(const std::vector<cv::Point2d>& curve, double head_height_px);
 
 // True when the profile in `mask` (head blob of a side image) looks toward the image left;

@@ -49,6 +49,15 @@ TEST(SideProfile, FaceProfileShapeAndFacing) {
   for (int i = 0; i <= 100; ++i)
     back.emplace_back(150 - 100 * std::sin(M_PI * i / 100), 20 + 2.6 * i);
   EXPECT_FALSE(ov::reads_as_face_profile(back, 200));
+  // The back of a skin-only blob (dark hair before a dark background left out of it, FRMDB
+  // 020): the nape runs down and forward to the neck's back, then back along a collar. It has a
+  // "tip" and a backward run under it, as a face has, but no step back between the two; before
+  // the step was asked for it read as a face, and with the face side reading as one too the
+  // facing was left to the skin cue, which took 020's profile for one looking the other way.
+  std::vector<cv::Point2d> nape;
+  for (int i = 0; i <= 120; ++i) nape.emplace_back(150 - 0.75 * i, 20 + i);  // down and forward
+  for (int i = 1; i <= 140; ++i) nape.emplace_back(60 + i, 140 + 0.43 * i);  // back along a collar
+  EXPECT_FALSE(ov::reads_as_face_profile(ov::resample(nape, 1.0), 200));
   EXPECT_FALSE(ov::reads_as_face_profile({}, 200));               // degenerate input
   EXPECT_FALSE(ov::reads_as_face_profile(front_curve(poly), 0));  // no head height
   // The facing cue on the filled blob, also mirrored.
