@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <stdexcept>
@@ -28,14 +29,36 @@ inline double mean(const std::vector<double>& v) {
   return v.empty() ? NAN : s / v.size();
 }
 
-// Throws std::runtime_error naming the file that could not be written.
+// Creates the output folder (and its parents) before a long run, so that a folder that cannot be
+// made fails at once rather than after the measurements. Nothing for an empty name.
+inline void make_out_dir(const std::string& out_dir) {
+  if (out_dir.empty()) return;
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec || !std::filesystem::is_directory(out_dir))
+    throw std::runtime_error("cannot create the output folder " + out_dir +
+                             (ec ? ": " + ec.message() : ""));
+}
+
+// Throws std::runtime_error naming the file that could not be written. Each file is written
+// whole under a temporary name and then renamed, so a failed run leaves no half report.
 inline void write_report(const std::string& out_dir, const std::string& stem,
                          const nlohmann::json& j, const std::string& md) {
   if (!out_dir.empty()) {
+    make_out_dir(out_dir);
     for (const auto& [name, text] : {std::pair{out_dir + "/" + stem + ".md", md},
                                      std::pair{out_dir + "/" + stem + ".json", j.dump(2) + "\n"}}) {
-      std::ofstream f(name);
-      if (!(f << text)) throw std::runtime_error("cannot write " + name);
+      const std::string part = name + ".part";
+      {
+        std::ofstream f(part);
+        if (!(f << text) || !(f.flush())) throw std::runtime_error("cannot write " + name);
+      }
+      std::error_code ec;
+      std::filesystem::rename(part, name, ec);
+      if (ec) {
+        std::filesystem::remove(part, ec);
+        throw std::runtime_error("cannot write " + name);
+      }
     }
   }
   std::cout << j.dump(2) << "\n";

@@ -243,6 +243,7 @@ int main(int argc, char** argv) {
     if (subjects < 1 || subjects > 50) throw std::invalid_argument("SUBJECTS must be in 1..50");
     if (!(mouth_mm >= 0 && mouth_mm <= 15))
       throw std::invalid_argument("MOUTH_MM must be in 0..15");
+    orthoface::bench::make_out_dir(out_dir);  // the frames go there during the run
     std::ostringstream md;
     md << "| subject | pose error median / p95 deg | frames lost | PSNR head dB mean (min) | PSNR "
           "face dB mean (min) | PSNR mouth dB mean (min) | fps out | latency median / p95 ms | "
