@@ -155,6 +155,7 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
 struct FrontHint {
   std::optional<SideHint> head;
   bool front_cut = false;
+  bool front_plate = false;  // the front was cut by its clean plate: no rule of the side's moves it
   double min_h = 0;
 };
 
@@ -191,7 +192,7 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   // subject's colours (skin-coloured walls, wood). With a plate the side is cut by difference,
   // and what its border says still tells the front (one room).
   double missed = 0;
-  if (hint.head) {
+  if (hint.head && (bg.empty() || !hint.front_plate)) {
     missed = side_missed(side, bg.empty() ? w.blob.mask : side_blob(side, {}).mask, *hint.head);
     w.busy = colours > kBusyBorderColours || missed > kSideMissed;
   }
@@ -437,6 +438,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
     else if (front_face.found)  // cut by its plate: the side learns where the head is all the same
       hint.head = head_hint(front, head.mask, face_box(*front_face.found), row_scale);
+    hint.front_plate = !bgf.empty();
     hint.min_h = min_h(head);
     hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it

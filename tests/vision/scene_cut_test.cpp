@@ -46,6 +46,17 @@ sim::Capture in_scene(int subject) {
   return sim::simulate_capture(sim::make_head(subject), ro);
 }
 
+// A desk photographed from above (OpenCV's sample "stuff.jpg", Debian's opencv-doc), behind sim
+// subject `subject`.
+const char* const kDesk = "/usr/share/doc/opencv-doc/examples/data/stuff.jpg";
+sim::Capture on_desk(int subject) {
+  sim::RigOptions ro;
+  ro.seed = subject;
+  ro.background = sim::BackgroundKind::Photo;
+  ro.background_photo = kDesk;
+  return sim::simulate_capture(sim::make_head(subject), ro);
+}
+
 // A head (ellipse) on a neck in a 400x300 mask, and its face box.
 cv::Mat head_blob() {
   cv::Mat m = cv::Mat::zeros(300, 400, CV_8U);
@@ -107,12 +118,8 @@ TEST(SceneCut, ObserveCutsASimHeadOutOfABusySceneWithoutPlates) {
 // subject's colours and is cut; the two cameras share the room, so the front is cut too. Before,
 // subject 0 was modelled at 5.9 % relative error (scene_bench), 0.25 % since.
 TEST(SceneCut, ASideCutOutOfTheSceneCutsTheFrontToo) {
-  const std::string desk = "/usr/share/doc/opencv-doc/examples/data/stuff.jpg";
-  if (!std::filesystem::exists(desk)) GTEST_SKIP() << desk << " not installed (opencv-doc)";
-  sim::RigOptions ro;
-  ro.background = sim::BackgroundKind::Photo;
-  ro.background_photo = desk;
-  const sim::Capture cap = sim::simulate_capture(sim::make_head(0), ro);
+  if (!std::filesystem::exists(kDesk)) GTEST_SKIP() << kDesk << " not installed (opencv-doc)";
+  const sim::Capture cap = on_desk(0);
   ASSERT_LE(ov::border_colour_count(cap.front), ov::kBusyBorderColours);
   const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
   EXPECT_TRUE(warned(obs, "side view: busy background"));
@@ -126,13 +133,8 @@ TEST(SceneCut, ASideCutOutOfTheSceneCutsTheFrontToo) {
 // against its cheek in the front photo; the front blob is then wider than the side's head is
 // deep (1.25), which no head is. Before: 4.49 % relative error (scene_bench), 0.95 % since.
 TEST(SceneCut, AFrontBlobWiderThanTheHeadIsDeepIsCut) {
-  const std::string desk = "/usr/share/doc/opencv-doc/examples/data/stuff.jpg";
-  if (!std::filesystem::exists(desk)) GTEST_SKIP() << desk << " not installed (opencv-doc)";
-  sim::RigOptions ro;
-  ro.seed = 3;
-  ro.background = sim::BackgroundKind::Photo;
-  ro.background_photo = desk;
-  const sim::Capture cap = sim::simulate_capture(sim::make_head(3), ro);
+  if (!std::filesystem::exists(kDesk)) GTEST_SKIP() << kDesk << " not installed (opencv-doc)";
+  const sim::Capture cap = on_desk(3);
   const ov::FaceObservation obs = ov::observe(cap.front, cap.side);
   EXPECT_FALSE(warned(obs, "side view: busy background"));
   EXPECT_TRUE(warned(obs, "times as wide as the side photo's head is deep"));
@@ -154,12 +156,8 @@ TEST(SceneCut, OneCleanPlateLeavesTheOtherPhotoCutOutOfTheScene) {
   EXPECT_GT(iou(a.side_blob, room.side_mask), 0.95);
   EXPECT_GT(iou(a.front_blob, room.front_mask), 0.95);
 
-  const std::string desk = "/usr/share/doc/opencv-doc/examples/data/stuff.jpg";
-  if (!std::filesystem::exists(desk)) GTEST_SKIP() << desk << " not installed (opencv-doc)";
-  sim::RigOptions ro;
-  ro.background = sim::BackgroundKind::Photo;
-  ro.background_photo = desk;
-  const sim::Capture cap = sim::simulate_capture(sim::make_head(0), ro);
+  if (!std::filesystem::exists(kDesk)) GTEST_SKIP() << kDesk << " not installed (opencv-doc)";
+  const sim::Capture cap = on_desk(0);
   ov::ObserveOptions side_plate;
   side_plate.background_side = cap.background_side;
   const ov::FaceObservation b = ov::observe(cap.front, cap.side, side_plate);
