@@ -169,7 +169,7 @@ double superellipse_radius(double a, double b, double n, double t) {
 // outermost radii around it (hollow_mm, hollow_deg), 0 where the face does not reach. Columns are
 // shifted by half a turn so the face (angle 0) lies mid-grid.
 cv::Mat face_radii(const mesh::TriMesh& face, const std::vector<Slice>& slices,
-                   const HullOptions& o) {
+                   const HullOptions& o, cv::Mat* outermost = nullptr) {
   const int n = o.angles;
   cv::Mat grid(int(slices.size()), n, CV_32F, cv::Scalar(0));
   const double y0 = slices.front().y;
@@ -202,6 +202,7 @@ cv::Mat face_radii(const mesh::TriMesh& face, const std::vector<Slice>& slices,
   // a hull triangle between two vertices placed by it stays behind the face between them too.
   const int half_rows = std::max(1, int(std::lround(o.hollow_mm / o.slice_mm)));
   const int half_cols = std::max(1, int(std::lround(o.hollow_deg / 360.0 * n)));
+  if (outermost) *outermost = grid.clone();
   cv::Mat lowest = grid.clone();
   lowest.setTo(std::numeric_limits<float>::max(), grid <= 0);
   cv::erode(lowest, lowest, cv::Mat::ones(2 * half_rows + 1, 2 * half_cols + 1, CV_8U),
@@ -257,16 +258,26 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
     hull.pivot = {neck.x(), 0.5 * (span.mean.y() + span.bottom), neck.y()};
   }
   const int n = o.angles, rows = int(slices.size());
-  const cv::Mat radii = face_radii(face, slices, o);
+  cv::Mat outermost;
+  const cv::Mat radii = face_radii(face, slices, o, &outermost);
 
   // Distance (mm) from every cell to the face's nearest cell, and that cell's radius.
-  cv::Mat outside = radii <= 0, dist, labels;
+  cv::Mat outside = radii <= 0, dist, labels, inside_labels;
   std::vector<float> label_radius(size_t(rows) * size_t(n) + 1, 0.f);
-  std::vector<cv::Point> label_cell(label_radius.size());
+  std::vector<cv::Point> label_cell(label_radius.size()), edge_cell(label_radius.size());
   const bool any_face = cv::countNonZero(~outside) > 0;
   if (any_face) {
     cv::distanceTransform(outside, dist, labels, cv::DIST_L2, cv::DIST_MASK_5,
                           cv::DIST_LABEL_PIXEL);
+    // And from every covered cell to the nearest cell the face leaves uncovered.
+    cv::distanceTransform(~outside, dist, inside_labels, cv::DIST_L2, cv::DIST_MASK_5,
+                          cv::DIST_LABEL_PIXEL);
+    for (int j = 0; j < rows; ++j)
+      for (int c = 0; c < n; ++c)
+        if (outside.at<uchar>(j, c)) {
+          const size_t l = size_t(inside_labels.at<int>(j, c));
+          if (l < edge_cell.size()) edge_cell[l] = {c, j};
+        }
     for (int j = 0; j < rows; ++j)
       for (int c = 0; c < n; ++c)
         if (!outside.at<uchar>(j, c)) {
@@ -290,7 +301,16 @@ HeadHull head_hull(const cv::Mat& front_silhouette, const cv::Mat& side_silhouet
       if (any_face) {
         const float face_r = radii.at<float>(j, col);
         if (face_r > 0) {
-          r = std::min(r, face_r - o.face_inset_mm);
+          // The inset fades over the last 4 mm inside the face's edge, so the hull meets the
+          // edge flush: a strip behind the edge would be hidden from the front photo by the
+          // face yet seen past the edge from above or below.
+          const size_t l = size_t(inside_labels.at<int>(j, col));
+          double d = 4;
+          if (l < edge_cell.size())
+            d = std::hypot((col - edge_cell[l].x) * 2 * kPi / n * face_r,
+                           (j - edge_cell[l].y) * o.slice_mm);
+          const double w = std::clamp((d - o.slice_mm) / std::max(4.0, 2 * o.slice_mm), 0.0, 1.0);
+          r = std::min(r, w * (face_r - o.face_inset_mm) + (1 - w) * outermost.at<float>(j, col));
         } else {
           const size_t l = size_t(labels.at<int>(j, col));
           if (l < label_radius.size()) {

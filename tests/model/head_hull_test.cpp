@@ -114,6 +114,25 @@ TEST(HeadHull, StaysBehindTheFaceWhereTheFaceCoversIt) {
   EXPECT_EQ(in_front, 0);
 }
 
+// Inside, the hull keeps its inset behind the face; at the face's top edge it meets the face
+// flush, so no strip of hull that the front photo sees hidden shows past the edge from above.
+TEST(HeadHull, MeetsTheFacesTopEdgeFlush) {
+  const KnownHead k;
+  const HeadHull hull = head_hull(k.front, k.side, k.rig, face_patch());
+  double edge_gap = 0, inner_gap = 1e9;
+  int edge_n = 0, inner_n = 0;
+  for (const auto& v : hull.mesh.vertices) {
+    if (v.z() < 0 || std::abs(v.x()) > 25) continue;
+    const double gap = 60 - (v.x() * v.x() + v.y() * v.y()) / 150 - v.z();  // behind the face
+    if (v.y() >= 38.9 && v.y() <= 40.1) edge_gap = std::max(edge_gap, gap), ++edge_n;
+    if (std::abs(v.y()) < 25) inner_gap = std::min(inner_gap, gap), ++inner_n;
+  }
+  ASSERT_GT(edge_n, 5);
+  ASSERT_GT(inner_n, 50);
+  EXPECT_LT(edge_gap, 1.0);
+  EXPECT_GT(inner_gap, 2.5);
+}
+
 TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
   KnownHead k;
   // Shoulders: the front silhouette widens to 2.5 x the neck 100 mm below the face.
