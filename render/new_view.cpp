@@ -164,6 +164,7 @@ void SynthesisOptions::check() const {
   if (!(feather_deg >= 0 && feather_deg <= 45)) bad("feather_deg must be in 0..45");
   if (!(weighted_power > 0 && weighted_power <= 16)) bad("weighted_power must be in (0, 16]");
   if (!(view_gain >= 0 && view_gain <= 10)) bad("view_gain must be in 0..10");
+  if (!(hull_view_share >= 0 && hull_view_share <= 1)) bad("hull_view_share must be in 0..1");
   if (!(mirror_view_from_deg >= 0 && mirror_view_from_deg <= 180))
     bad("mirror_view_from_deg must be in 0..180");
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
@@ -604,6 +605,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       glUniformMatrix4fv(glGetUniformLocation(p, "mirror"), 1, GL_FALSE, reflect_f.data());
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
+      glUniform1f(glGetUniformLocation(p, "hull_bias"), float(o.hull_view_share));
       glUniform1f(glGetUniformLocation(p, "view_bias_mirror"),
                   float(view_bias(to_front, to_mirror, to_view, o)));
       const float ramp[2] = {float(facing_ramp(to_front, to_view, o)),

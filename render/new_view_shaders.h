@@ -97,6 +97,7 @@ uniform vec2 zrange[2];  // near far of each source depth map
 uniform float tol_mm;
 uniform float feather;
 uniform float view_bias;  // View blend: the new view's preference for the front photo (0: pick)
+uniform float hull_bias;  // the share of view_bias on the head hull (SynthesisOptions)
 uniform float view_bias_mirror;  // ... against the side photo's mirror image
 uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
 uniform float ramp_mirror;
@@ -182,7 +183,14 @@ void main() {
   float q0 = pow(max(v_cos.x, 0.0), power), q1 = pow(max(cos1, 0.0), power);
   float pf = q0 + q1 > 0.0 ? q0 / (q0 + q1) : 0.5;
 #else
-  float pf = smoothstep(-feather, feather, v_cos.x - cos1 + bias);  // feather > 0
+  // The head hull (hair, ears, neck) takes the better-facing photo (seed 004 §6): the view's
+  // preference for the front photo keeps the face's registration, but on the hull it paints the
+  // front photo's grazing samples as horizontal streaks over what the side photo sees face on.
+  // The head hull (hair, ears, neck) keeps hull_bias of that preference: in full it paints the
+  // front photo's grazing samples over the hull's sides as horizontal streaks where the side
+  // photo sees them face on; none (seed 004's better-facing rule) sets the side photo's hair
+  // beside the front photo's face, which real faces show as a seam.
+  float pf = smoothstep(-feather, feather, v_cos.x - cos1 + bias * mix(hull_bias, 1.0, v_face));
 #endif
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);

@@ -75,6 +75,41 @@ TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   EXPECT_THROW(o.check(), std::invalid_argument);
   o.view_gain = NAN;
   EXPECT_THROW(o.check(), std::invalid_argument);
+  o = SynthesisOptions{};
+  for (double share : {-0.1, 1.5, double(NAN)}) {
+    o.hull_view_share = share;
+    EXPECT_THROW(o.check(), std::invalid_argument);
+  }
+}
+
+// A view a little off the front camera: the head hull's sides, which the front photo sees at a
+// grazing angle, take the side photo that faces them sooner than the face does (the full view
+// preference painted the front photo's stretched samples over them).
+TEST(NewView, HullSidesTakeTheSidePhotoSoonerThanTheFace) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  synth.set_face_vertices(0);  // all hull
+  for (double yaw : {15.0, 30.0}) {
+    const CameraModel cam = view(s.rig.front, yaw);
+    const RenderResult truth = render_once(s.textured, cam);
+    SynthesisOptions o;
+    o.float_textures = false;
+    o.source_weights = true;
+    double p[2];
+    double side_share[2];
+    for (int k = 0; k < 2; ++k) {
+      o.hull_view_share = k == 0 ? 1.0 : 0.5;
+      const SynthesisResult r = synth.render(cam, o);
+      p[k] = psnr(truth.image, r.view.image, truth.mask);
+      cv::Mat side;
+      cv::extractChannel(r.weights, side, 1);
+      side_share[k] = cv::mean(side, r.view.mask)[0] / 255;
+    }
+    std::printf("ellipsoid hull %.0f deg: PSNR %.2f -> %.2f dB, side photo's share %.3f -> %.3f\n",
+                yaw, p[0], p[1], side_share[0], side_share[1]);
+    EXPECT_GT(side_share[1], side_share[0] + 0.02);
+    EXPECT_GT(p[1], p[0]);
+  }
 }
 
 TEST(NewView, FloatingTexturesAlignOnlyTheFaceVertices) {
