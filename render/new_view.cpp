@@ -280,9 +280,11 @@ void ViewSynthesizer::Impl::sort_elements(const SynthesisOptions& o, double bias
   }
   const bool weighted = o.blend == Blend::Weighted;
   if (ordered_for && (ordered_for->blend == Blend::Weighted) == weighted &&
-      ordered_for->feather_deg == o.feather_deg && ordered_bias == bias)
+      ordered_for->feather_deg == o.feather_deg &&
+      ordered_for->hull_view_share == o.hull_view_share && ordered_bias == bias)
     return;
-  const TriangleOrder order = order_triangles(triangles, facts, {weighted, feather_band(o), bias});
+  const TriangleOrder order = order_triangles(
+      triangles, facts, {weighted, feather_band(o), bias, o.hull_view_share, face_vertices});
   for (int k = 0; k < 4; ++k) class_count[k] = GLsizei(3 * order.count[k]);
   glBindVertexArray(mesh.vao);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mesh.ebo);
@@ -473,6 +475,7 @@ void ViewSynthesizer::set_face_vertices(int count) {
                                 std::to_string(impl_->vertices.size()));
   impl_->context.make_current();
   impl_->face_vertices = count;
+  impl_->ordered_for.reset();  // the hull's triangles are classed by the hull's bias
   impl_->upload_seen();
 }
 

@@ -147,19 +147,30 @@ TriangleOrder order_triangles(const std::vector<std::array<int, 3>>& triangles,
   if (facts.size() != triangles.size())
     throw std::invalid_argument("order triangles: facts has " + std::to_string(facts.size()) +
                                 " entries for " + std::to_string(triangles.size()) + " triangles");
-  if (!(rule.feather > 0) || !std::isfinite(rule.feather) || !std::isfinite(rule.bias))
+  if (!(rule.feather > 0) || !std::isfinite(rule.feather) || !std::isfinite(rule.bias) ||
+      !(rule.hull_share >= 0 && rule.hull_share <= 1))
     throw std::invalid_argument(
-        "order triangles: rule needs a positive finite feather and a "
-        "finite bias");
+        "order triangles: rule needs a positive finite feather, a finite bias and a hull share "
+        "in 0..1");
   std::array<std::vector<std::array<int, 3>>, 4> by_class;
+  const double hull_bias = rule.bias * rule.hull_share;
   for (size_t k = 0; k < triangles.size(); ++k) {
     const TriangleFacts& f = facts[k];
+    // The bias over the triangle: the face's, the hull's, or between them where it spans both.
+    int hull_corners = 0;
+    for (int v : triangles[k]) hull_corners += rule.face_vertices >= 0 && v >= rule.face_vertices;
+    const double lo = hull_corners == 0   ? rule.bias
+                      : hull_corners == 3 ? hull_bias
+                                          : std::min(rule.bias, hull_bias),
+                 hi = hull_corners == 0   ? rule.bias
+                      : hull_corners == 3 ? hull_bias
+                                          : std::max(rule.bias, hull_bias);
     // Pick / view: the leading photo alone when it covers the triangle fully. Weighted: a photo
     // alone only where the other faces away.
     const bool front_only =
-        f.whole[0] && (rule.weighted ? f.max_cos[1] <= 0 : f.lead[0] + rule.bias >= rule.feather);
+        f.whole[0] && (rule.weighted ? f.max_cos[1] <= 0 : f.lead[0] + lo >= rule.feather);
     const bool side_only =
-        f.whole[1] && (rule.weighted ? f.max_cos[0] <= 0 : f.lead[1] - rule.bias >= rule.feather);
+        f.whole[1] && (rule.weighted ? f.max_cos[0] <= 0 : f.lead[1] - hi >= rule.feather);
     const auto c = front_only     ? TriangleClass::kFrontOnly
                    : side_only    ? TriangleClass::kSideOnly
                    : f.unoccluded ? TriangleClass::kUnoccluded

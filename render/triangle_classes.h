@@ -48,6 +48,10 @@ struct ClassRule {
   bool weighted = false;  // Blend::Weighted: a photo alone only where the other faces away
   double feather = 1e-6;  // Pick / View: half-width of the switch band in cos0 - cos1 (> 0)
   double bias = 0;        // View: the view bias added to cos0 - cos1 (0 for the other blends)
+  // The head hull's share of the bias (SynthesisOptions::hull_view_share) and where the hull
+  // begins: vertices from face_vertices on (-1: every vertex is the face).
+  double hull_share = 1;
+  int face_vertices = -1;
 };
 
 struct TriangleOrder {

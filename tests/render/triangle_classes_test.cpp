@@ -99,6 +99,18 @@ TEST(TriangleFacts, FacingBothCamerasIsUnoccludedUnlessTheBiasDecides) {
   EXPECT_EQ(class_of(f, {true, 0.1, 0.5}), TriangleClass::kUnoccluded);  // weighted: both seen
 }
 
+// The head hull keeps only its share of the view bias: a hull triangle the face's bias would hand
+// to the front photo is blended; one spanning face and hull must hold under both biases.
+TEST(TriangleFacts, TheHullsTrianglesAreClassedByTheHullsShareOfTheBias) {
+  const TriangleFacts f = facts_of(one_triangle(Eigen::Vector3d(1, 0, 1).normalized()));
+  EXPECT_EQ(class_of(f, {false, 0.1, 0.5, 0.0, 3}), TriangleClass::kFrontOnly);   // all face
+  EXPECT_EQ(class_of(f, {false, 0.1, 0.5, 0.0, 0}), TriangleClass::kUnoccluded);  // all hull
+  EXPECT_EQ(class_of(f, {false, 0.1, 0.5, 0.0, 1}), TriangleClass::kUnoccluded);  // both
+  EXPECT_EQ(class_of(f, {false, 0.1, 0.5, 0.5, 0}), TriangleClass::kFrontOnly);   // 0.25 >= 0.1
+  EXPECT_EQ(class_of(f, {false, 0.1, -0.5, 0.1, 0}), TriangleClass::kUnoccluded);
+  EXPECT_THROW(order_triangles({{0, 1, 2}}, {f}, {false, 0.1, 0.5, 1.5, 0}), std::invalid_argument);
+}
+
 TEST(TriangleFacts, HiddenBehindAnotherSurfaceInOneSourceIsTested) {
   const TriangleFacts f = facts_of(one_triangle(Eigen::Vector3d::UnitZ(), 900));
   EXPECT_FALSE(f.whole[0]);
