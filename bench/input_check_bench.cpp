@@ -25,6 +25,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -214,7 +215,8 @@ int main(int argc, char** argv) {
         for (const auto& [n, f] : obs.front_trained)
           if (obs.side.features.count(n))
             r["heights"][n] = {f.px.y, obs.side.features.at(n).px.y,
-                               obs.side.features.at(n).confidence};
+                               obs.side.features.at(n).confidence, f.px.x,
+                               obs.side.features.at(n).px.x};
         if (!draw_dir.empty()) {
           fs::create_directories(draw_dir);
           cv::Mat shown = side.clone();
@@ -234,6 +236,15 @@ int main(int argc, char** argv) {
           cv::putText(shown, obs.side_seen_faces_left ? "seen facing left" : "seen facing right",
                       {10, 30}, cv::FONT_HERSHEY_SIMPLEX, 0.8, {0, 0, 255}, 2);
           cv::imwrite(draw_dir + "/" + people[i] + "_" + k.name + "_side.jpg", shown);
+          // The two blobs the colour measures read (observation.front_blob / side_blob).
+          for (const auto& [photo, blob, tag] : {std::tuple{front, obs.front_blob, "front_blob"},
+                                                 std::tuple{side, obs.side_blob, "side_blob"}}) {
+            if (blob.empty()) continue;
+            cv::Mat dim = photo * 0.3;
+            photo.copyTo(dim, blob);
+            cv::imwrite(draw_dir + "/" + people[i] + "_" + k.name + "_" + tag + ".jpg", dim);
+            cv::imwrite(draw_dir + "/" + people[i] + "_" + k.name + "_" + tag + ".png", blob);
+          }
         }
         for (const auto& x : c.checks)
           if (!x.passed) r["failed"].push_back(x.name);
