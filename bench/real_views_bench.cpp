@@ -15,10 +15,11 @@
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
-// [--no-equalize] [--head-turn MIN_DEG] [--head face|whole (default)] [--background photo (default:
-// the views composited into the front photo's scene, the head removed) | black] [--scene PHOTO:
-// each person put in front of a scene photograph first (into_scene)]. JSON on stdout,
-// Markdown on stderr, both in OUTDIR with one contact sheet per person (front | +-15 | +-45 | real
+// [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] [--flanks-max MM] [--head face|whole
+// (default)] [--background photo (default: the views composited into the front photo's scene, the
+// head removed) | black] [--scene PHOTO: each person put in front of a scene photograph first
+// (into_scene)]. JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per
+// person (front | +-15 | +-45 | real
 // +-45, dlib's points drawn). The pictures show real people: keep OUTDIR outside the repository.
 #include <algorithm>
 #include <cmath>
@@ -140,6 +141,8 @@ struct Options {
   bool equalize = render::SynthesisOptions{}.equalize;
   render::UnseenSide unseen = render::SynthesisOptions{}.unseen;
   double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
+  bool fit_flanks = reconstruct::ReconstructOptions{}.fit_flanks;
+  reconstruct::FlankDepthOptions flanks;
   reconstruct::HeadExtent head = reconstruct::HeadExtent::Whole;
   bool composite = true;  // views over the front photo's scene (else on black)
   std::string scene;      // a scene photograph the people are put in front of (empty: none)
@@ -229,6 +232,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
       ro.observe.landmarker = opt.landmarker;
       ro.min_head_turn_deg = opt.min_head_turn_deg;
+      ro.fit_flanks = opt.fit_flanks;
+      ro.flanks = opt.flanks;
       const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
       ++reconstructed;
       for (const std::string& w : rec.report.warnings)
@@ -253,6 +258,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       r["photographed_side_yaw_sign"] = near_sign;
       r["head_yaw_deg"] = rec.report.head_yaw_deg;
       r["head_turn_corrected"] = rec.report.head_turn_corrected;
+      r["flank_offset_mm"] = rec.report.flanks.offset_mm;
 
       // Reproduction at the source cameras: the view from the front camera against the front
       // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
@@ -522,6 +528,10 @@ int main(int argc, char** argv) {
         opt.equalize = false;
       } else if (a == "--unseen" && i + 1 < argc) {
         opt.unseen = render::parse_unseen_side(argv[++i]);
+      } else if (a == "--no-flanks") {
+        opt.fit_flanks = false;
+      } else if (a == "--flanks-max" && i + 1 < argc) {
+        opt.flanks.max_mm = std::stod(argv[++i]);
       } else if (a == "--head-turn" && i + 1 < argc) {
         opt.min_head_turn_deg = std::stod(argv[++i]);
       } else if (a == "--head" && i + 1 < argc) {
@@ -545,7 +555,8 @@ int main(int argc, char** argv) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
-             "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--head face|whole] "
+             "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] "
+             "[--flanks-max MM] [--head face|whole] "
              "[--background photo|black] [--scene PHOTO]\n";
       return 2;
     }

@@ -67,6 +67,9 @@ nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
 
 nlohmann::json report_object(const Reconstruction& r) {
   const ReconstructionReport& rep = r.report;
+  auto num = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
   nlohmann::json stages = nlohmann::json::object();
   double total = 0;
   for (const auto& [stage, ms] : rep.stage_ms) stages[stage] = ms, total += ms;
@@ -83,6 +86,13 @@ nlohmann::json report_object(const Reconstruction& r) {
           {"head_turn_corrected", rep.head_turn_corrected},
           // the side photo rescaled to the front photo's height by this (1: same height)
           {"side_photo_scale", rep.side_photo_scale},
+          // the face's flanks set back this far (mm) where the two photos agree best (their
+          // correlation there before and after; reconstruct/flank_depth.h)
+          {"flank_depth",
+           {{"offset_mm", rep.flanks.offset_mm},
+            {"agreement_before", num(rep.flanks.agreement_before)},
+            {"agreement_after", num(rep.flanks.agreement_after)},
+            {"points", rep.flanks.points}}},
           {"stage_ms", stages},
           {"total_ms", total},
           {"warnings", rep.warnings},

@@ -146,6 +146,7 @@ void ReconstructOptions::check() const {
   if (!std::isfinite(min_head_turn_deg))
     throw std::invalid_argument("ReconstructOptions: min_head_turn_deg is not finite");
   input_limits.check();
+  flanks.check();
 }
 
 InputRefused::InputRefused(const std::string& check, const std::string& problem)
@@ -250,6 +251,14 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   }
   out.report.stage_ms.push_back({"adapt", ms_since(t)});
   t = Clock::now();
+  if (options.fit_flanks && !front.empty() && !side.empty()) {
+    FlankDepth flanks = fit_flank_depth(r.mesh, front, side, out.photo_rig, options.flanks);
+    move_flanks(flanks, out.photo_rig.front, r.mesh, r.landmarks);
+    flanks.weight.clear();
+    out.report.flanks = flanks;
+    out.report.stage_ms.push_back({"flank_depth", ms_since(t)});
+    t = Clock::now();
+  }
   out.mesh = r.mesh;
   add_texture(front, out.rig.front, out.mesh);
   out.landmarks = r.landmarks;

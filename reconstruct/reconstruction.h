@@ -19,6 +19,7 @@
 #include "model/adapt.h"
 #include "model/head_hull.h"
 #include "model/stereo.h"
+#include "reconstruct/flank_depth.h"
 #include "vision/observation.h"
 #include "vision/observe.h"
 #include "vision/pair_check.h"
@@ -47,6 +48,10 @@ struct ReconstructOptions {
   bool check_input = true;
   bool force = false;
   vision::PairCheckLimits input_limits;
+  // The face's flanks set back to where the two photos agree (reconstruct/flank_depth.h);
+  // false keeps the adapted mesh as it is.
+  bool fit_flanks = true;
+  FlankDepthOptions flanks;
   void check() const;  // throws std::invalid_argument
 };
 
@@ -80,6 +85,10 @@ struct ReconstructionReport {
   // The side photo's scale to the front photo's height (1 when they share it; without a rig a
   // side photo of another height is rescaled and kept so in the reconstruction).
   double side_photo_scale = 1;
+  // The flanks' offset (mm, > 0 back) and the two photos' agreement there before and after it
+  // (reconstruct/flank_depth.h; its weights left empty); offset 0 and NaN agreements when it
+  // did not run.
+  FlankDepth flanks;
 };
 
 struct Reconstruction {
