@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 #include <opencv2/imgproc.hpp>
@@ -130,9 +131,9 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
   for (const auto& [photo, cam, name] :
        {std::tuple{&front, &rig.front, "front"}, std::tuple{&side, &rig.side, "side"}})
     if (photo->empty() || photo->cols != cam->width || photo->rows != cam->height ||
-        photo->depth() != CV_8U)
+        (photo->type() != CV_8UC3 && photo->type() != CV_8UC1))
       throw std::invalid_argument(std::string("flank depth: the ") + name +
-                                  " photo is not an 8-bit image of its camera's size");
+                                  " photo is not an 8-bit BGR or grey image of its camera's size");
   const size_t n = mesh.vertices.size();
   FlankDepth out;
   out.weight.assign(n, 0.0);

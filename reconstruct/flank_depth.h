@@ -52,7 +52,8 @@ struct FlankDepth {
 
 // Finds the offset for `mesh` (head frame mm, outward normals) seen by `rig` (the photo rig:
 // the side camera where it stood) in the two photos (8-bit BGR or grey, the rig's sizes).
-// Throws std::invalid_argument on an empty mesh or photos of other sizes than the rig's.
+// Throws std::invalid_argument on an empty mesh, or photos of other sizes than the rig's or of
+// another pixel type.
 FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, const cv::Mat& side,
                            const capture::RigCalibration& rig,
                            const FlankDepthOptions& options = {});

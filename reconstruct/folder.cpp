@@ -54,12 +54,14 @@ nlohmann::json landmarks_json(const Reconstruction& r) {
           {"landmarks", l}};
 }
 
+// A measure, or null when it was not taken (NaN).
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 // Each check of the input check: passed, the measure and its limit (null when not measured).
 nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
   nlohmann::json j = nlohmann::json::object();
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
   for (const auto& c : checks)
     j[c.name] = {{"passed", c.passed}, {"value", num(c.value)}, {"limit", num(c.limit)}};
   return j;
@@ -67,9 +69,6 @@ nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
 
 nlohmann::json report_object(const Reconstruction& r) {
   const ReconstructionReport& rep = r.report;
-  auto num = [](double v) {
-    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-  };
   nlohmann::json stages = nlohmann::json::object();
   double total = 0;
   for (const auto& [stage, ms] : rep.stage_ms) stages[stage] = ms, total += ms;

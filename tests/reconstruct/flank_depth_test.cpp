@@ -1,9 +1,11 @@
 // The face's flanks set back where the two photos agree (reconstruct/flank_depth.h).
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -106,25 +108,24 @@ TEST(FlankDepth, MovesTheSeenFlankBackAndLeavesTheEdgeAndMidline) {
 TEST(FlankDepth, BadInputsAreRefused) {
   const Fitted& f = fitted();
   const auto& r = f.rec;
+  const std::vector<std::function<void(FlankDepthOptions&)>> bad = {
+      [](auto& o) { o.min_mm = 1; },    [](auto& o) { o.max_mm = NAN; },
+      [](auto& o) { o.step_mm = 0; },   [](auto& o) { o.fine_mm = 7; },
+      [](auto& o) { o.min_cos = 1; },   [](auto& o) { o.min_gain = -0.1; },
+      [](auto& o) { o.min_points = 2; }};
   FlankDepthOptions o;
-  o.min_mm = 1;
-  EXPECT_THROW(o.check(), std::invalid_argument);
-  o = {};
-  o.step_mm = 0;
-  EXPECT_THROW(o.check(), std::invalid_argument);
-  o = {};
-  o.fine_mm = 7;
-  EXPECT_THROW(o.check(), std::invalid_argument);
-  o = {};
-  o.min_cos = 1;
-  EXPECT_THROW(o.check(), std::invalid_argument);
-  o = {};
-  o.min_points = 2;
-  EXPECT_THROW(o.check(), std::invalid_argument);
+  for (size_t i = 0; i < bad.size(); ++i) {
+    o = {};
+    bad[i](o);
+    EXPECT_THROW(o.check(), std::invalid_argument) << "bad option " << i;
+  }
   EXPECT_THROW(fit_flank_depth(r.mesh, r.front, r.side, r.photo_rig, o), std::invalid_argument);
   EXPECT_THROW(fit_flank_depth(mesh::TriMesh{}, r.front, r.side, r.photo_rig),
                std::invalid_argument);
   EXPECT_THROW(fit_flank_depth(r.mesh, cv::Mat(), r.side, r.photo_rig), std::invalid_argument);
+  cv::Mat bgra;
+  cv::cvtColor(r.side, bgra, cv::COLOR_BGR2BGRA);
+  EXPECT_THROW(fit_flank_depth(r.mesh, r.front, bgra, r.photo_rig), std::invalid_argument);
   cv::Mat half;
   cv::resize(r.side, half, cv::Size(), 0.5, 0.5);
   EXPECT_THROW(fit_flank_depth(r.mesh, r.front, half, r.photo_rig), std::invalid_argument);
