@@ -15,7 +15,8 @@
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
-// [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] [--flanks-max MM] [--head face|whole
+// [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] [--flanks-max MM] [--flanks-below-max MM]
+// [--flanks-blend MM] [--no-flank-bands] [--head face|whole
 // (default)] [--background photo (default: the views composited into the front photo's scene, the
 // head removed) | black] [--scene PHOTO: each person put in front of a scene photograph first
 // (into_scene)]. JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per
@@ -259,6 +260,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       r["head_yaw_deg"] = rec.report.head_yaw_deg;
       r["head_turn_corrected"] = rec.report.head_turn_corrected;
       r["flank_offset_mm"] = rec.report.flanks.offset_mm;
+      r["flank_offset_below_mm"] = rec.report.flanks.offset_below_mm;
 
       // Reproduction at the source cameras: the view from the front camera against the front
       // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
@@ -532,6 +534,12 @@ int main(int argc, char** argv) {
         opt.fit_flanks = false;
       } else if (a == "--flanks-max" && i + 1 < argc) {
         opt.flanks.max_mm = std::stod(argv[++i]);
+      } else if (a == "--flanks-below-max" && i + 1 < argc) {
+        opt.flanks.below_max_mm = std::stod(argv[++i]);
+      } else if (a == "--flanks-blend" && i + 1 < argc) {
+        opt.flanks.blend_mm = std::stod(argv[++i]);
+      } else if (a == "--no-flank-bands") {
+        opt.flanks.bands = false;
       } else if (a == "--head-turn" && i + 1 < argc) {
         opt.min_head_turn_deg = std::stod(argv[++i]);
       } else if (a == "--head" && i + 1 < argc) {
@@ -556,7 +564,8 @@ int main(int argc, char** argv) {
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
              "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] "
-             "[--flanks-max MM] [--head face|whole] "
+             "[--flanks-max MM] [--flanks-below-max MM] [--flanks-blend MM] [--no-flank-bands] "
+             "[--head face|whole] "
              "[--background photo|black] [--scene PHOTO]\n";
       return 2;
     }

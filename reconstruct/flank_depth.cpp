@@ -122,6 +122,9 @@ void FlankDepthOptions::check() const {
   if (!(fine_mm > 0 && coarse_mm > fine_mm && std::isfinite(coarse_mm)))
     bad("fine_mm and coarse_mm must satisfy 0 < fine_mm < coarse_mm");
   if (min_points < 3) bad("min_points must be >= 3");
+  if (!(blend_mm > 0 && std::isfinite(blend_mm))) bad("blend_mm must be positive and finite");
+  if (!std::isfinite(below_max_mm) || below_max_mm < 0 || (below_max_mm - min_mm) / step_mm > 1000)
+    bad("below_max_mm must be >= 0, finite and give at most 1000 steps");
 }
 
 FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, const cv::Mat& side,
@@ -175,16 +178,28 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
     const double lateral = std::abs(mesh.vertices[i].x() - mesh.vertices[tip].x());
     out.weight[i] *= std::clamp((lateral - kMidlineMm) / kMidlineRampMm, 0.0, 1.0);
   }
+  // Above the nose tip the upper band's offset, below it the lower band's, blended over
+  // +-blend_mm of the tip's height.
+  out.below.assign(n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    out.below[i] = o.bands
+                       ? std::clamp((mesh.vertices[tip].y() + o.blend_mm - mesh.vertices[i].y()) /
+                                        (2 * o.blend_mm),
+                                    0.0, 1.0)
+                       : 0.0;
   // The points compared: vertices both photos see, and the centroids of triangles all of whose
   // vertices they see (a denser sampling of the same flank).
   std::vector<Eigen::Vector3d> points;
-  std::vector<double> weights;
+  std::vector<double> weights, below;
   for (size_t i = 0; i < n; ++i)
-    if (seen[i]) points.push_back(mesh.vertices[i]), weights.push_back(out.weight[i]);
+    if (seen[i])
+      points.push_back(mesh.vertices[i]), weights.push_back(out.weight[i]),
+          below.push_back(out.below[i]);
   for (const auto& t : mesh.triangles)
     if (seen[t[0]] && seen[t[1]] && seen[t[2]]) {
       points.push_back((mesh.vertices[t[0]] + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3);
       weights.push_back((out.weight[t[0]] + out.weight[t[1]] + out.weight[t[2]]) / 3);
+      below.push_back((out.below[t[0]] + out.below[t[1]] + out.below[t[2]]) / 3);
     }
   out.points = int(points.size());
   if (out.points < o.min_points) return out;
@@ -192,9 +207,10 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
   for (const auto& p : points) centre += p;
   centre /= double(points.size());
   const double front_scale = px_per_mm(rig.front, centre), side_scale = px_per_mm(rig.side, centre);
+  const double reach_max = std::max(o.max_mm, o.bands ? o.below_max_mm : o.max_mm);
   std::vector<Eigen::Vector2d> front_reach, side_reach;  // where the points go at either limit
   for (const auto& p : points)
-    for (double offset : {o.min_mm, o.max_mm}) {
+    for (double offset : {o.min_mm, reach_max}) {
       front_reach.push_back(capture::project(rig.front, p - offset * to_front));
       side_reach.push_back(capture::project(rig.side, p - offset * to_front));
     }
@@ -202,11 +218,17 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
       band_pass(front, front_reach, o.fine_mm * front_scale, o.coarse_mm * front_scale);
   const BandPassed side_bp =
       band_pass(side, side_reach, o.fine_mm * side_scale, o.coarse_mm * side_scale);
-  auto agreement = [&](double offset) {
+  // The correlation over the points `in` selects, each moved by its weight x
+  // ((1 - below) x up + below x down).
+  enum class Band { kAll, kUpper, kLower };
+  auto agreement = [&](double up, double down, Band band) {
     std::vector<float> a, b;
     a.reserve(points.size()), b.reserve(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
-      const Eigen::Vector3d p = points[i] - offset * weights[i] * to_front;
+      if ((band == Band::kUpper && below[i] >= 0.5) || (band == Band::kLower && below[i] < 0.5))
+        continue;
+      const Eigen::Vector3d p =
+          points[i] - weights[i] * ((1 - below[i]) * up + below[i] * down) * to_front;
       float va, vb;
       if (sample(front_bp, capture::project(rig.front, p), va) &&
           sample(side_bp, capture::project(rig.side, p), vb))
@@ -214,39 +236,52 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
     }
     return int(a.size()) >= o.min_points ? correlation(a, b) : FlankDepth::kNaN;
   };
-  out.agreement_before = out.agreement_after = agreement(0);
+  // The offset in min_mm..max_mm that maximises `score`, kept only when it beats offset 0 by
+  // min_gain; 0 when the photos do not resolve it.
+  auto search = [&](double max_mm, const auto& score) {
+    const double at_zero = score(0.0);
+    if (!std::isfinite(at_zero)) return 0.0;
+    double best = at_zero, best_offset = 0;
+    const int steps = int(std::floor((max_mm - o.min_mm) / o.step_mm + 1e-9));
+    for (int k = 0; k <= steps; ++k) {
+      const double offset = o.min_mm + k * o.step_mm;
+      const double c = score(offset);
+      if (std::isfinite(c) && c > best) best = c, best_offset = offset;
+    }
+    return best - at_zero >= o.min_gain ? best_offset : 0.0;
+  };
+  out.agreement_before = out.agreement_after = agreement(0, 0, Band::kAll);
   if (!std::isfinite(out.agreement_before)) return out;
-  double best = out.agreement_before, best_offset = 0;
-  const int steps = int(std::floor((o.max_mm - o.min_mm) / o.step_mm + 1e-9));
-  for (int k = 0; k <= steps; ++k) {
-    const double offset = o.min_mm + k * o.step_mm;
-    const double c = agreement(offset);
-    if (std::isfinite(c) && c > best) best = c, best_offset = offset;
+  const double whole = search(o.max_mm, [&](double d) { return agreement(d, d, Band::kAll); });
+  out.offset_mm = out.offset_below_mm = whole;
+  if (o.bands) {
+    // Each band on its own points; a band too small to score keeps the whole face's offset.
+    if (std::isfinite(agreement(0, 0, Band::kUpper)))
+      out.offset_mm = search(o.max_mm, [&](double d) { return agreement(d, d, Band::kUpper); });
+    if (std::isfinite(agreement(0, 0, Band::kLower)))
+      out.offset_below_mm =
+          search(o.below_max_mm, [&](double d) { return agreement(d, d, Band::kLower); });
   }
-  if (best - out.agreement_before >= o.min_gain) {
-    out.offset_mm = best_offset;
-    out.agreement_after = best;
-  }
+  out.agreement_after = agreement(out.offset_mm, out.offset_below_mm, Band::kAll);
   return out;
 }
 
 void move_flanks(const FlankDepth& depth, const capture::CameraModel& front_camera,
                  mesh::TriMesh& mesh, std::map<std::string, Eigen::Vector3d>& landmarks) {
-  if (depth.weight.size() != mesh.vertices.size())
-    throw std::invalid_argument("move flanks: " + std::to_string(depth.weight.size()) +
-                                " weights for a mesh of " + std::to_string(mesh.vertices.size()) +
-                                " vertices");
-  if (depth.offset_mm == 0 || mesh.vertices.empty()) return;
+  if (depth.weight.size() != mesh.vertices.size() || depth.below.size() != mesh.vertices.size())
+    throw std::invalid_argument("move flanks: " + std::to_string(depth.weight.size()) + " / " +
+                                std::to_string(depth.below.size()) + " weights for a mesh of " +
+                                std::to_string(mesh.vertices.size()) + " vertices");
+  if ((depth.offset_mm == 0 && depth.offset_below_mm == 0) || mesh.vertices.empty()) return;
   const Eigen::Vector3d to_front = -capture::view_direction(front_camera);
   for (auto& [name, p] : landmarks) {
     size_t nearest = 0;
     for (size_t i = 1; i < mesh.vertices.size(); ++i)
       if ((mesh.vertices[i] - p).squaredNorm() < (mesh.vertices[nearest] - p).squaredNorm())
         nearest = i;
-    p -= depth.offset_mm * depth.weight[nearest] * to_front;
+    p -= depth.shift(nearest) * to_front;
   }
-  for (size_t i = 0; i < mesh.vertices.size(); ++i)
-    mesh.vertices[i] -= depth.offset_mm * depth.weight[i] * to_front;
+  for (size_t i = 0; i < mesh.vertices.size(); ++i) mesh.vertices[i] -= depth.shift(i) * to_front;
 }
 
 }  // namespace orthoface::reconstruct

@@ -10,7 +10,9 @@
 // forward (docs/views_accuracy.md): a side photo's nose then lands on the model's cheek and a
 // turned view shows two noses. One offset for the whole face, found by a 1-D search, moves the
 // flanks back along the front camera's axis, tapered to nothing at the midline and at the
-// outline, which the profile and the silhouette fix.
+// outline, which the profile and the silhouette fix. The face above the nose tip and the face
+// below it take an offset each (the lower face of the base mesh stands further forward on real
+// faces than the upper: docs/views_accuracy.md), blended across the nose tip's height.
 
 #include <limits>
 #include <map>
@@ -26,7 +28,7 @@
 namespace orthoface::reconstruct {
 
 struct FlankDepthOptions {
-  double min_mm = -6, max_mm = 6;  // offsets searched (> 0 moves the flanks back)
+  double min_mm = -6, max_mm = 8;  // offsets searched (> 0 moves the flanks back)
   double step_mm = 1;
   // The agreement (a correlation) must rise by this much over the unmoved mesh's, else nothing
   // moves: a face the photos do not resolve stays as the model made it.
@@ -38,16 +40,27 @@ struct FlankDepthOptions {
   // (the two photos' shading of a flank differs, its features do not).
   double fine_mm = 1.2, coarse_mm = 6;
   int min_points = 60;  // fewer points seen by both: nothing moves
-  void check() const;   // throws std::invalid_argument naming the field
+  // An offset each above and below the nose tip, blended over +-blend_mm of its height; the
+  // offset below searched up to below_max_mm. Off: one offset for the whole face.
+  bool bands = true;
+  double blend_mm = 10;
+  double below_max_mm = 6;
+  void check() const;  // throws std::invalid_argument naming the field
 };
 
 struct FlankDepth {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  double offset_mm = 0;            // chosen offset (0 when nothing moved)
+  double offset_mm = 0;            // chosen offset above the nose tip (0 when nothing moved)
+  double offset_below_mm = 0;      // below it (offset_mm when the options' bands are off)
   double agreement_before = kNaN;  // correlation of the two photos at offset 0
-  double agreement_after = kNaN;   // at the chosen offset
+  double agreement_after = kNaN;   // at the chosen offsets
   int points = 0;                  // surface points both photos see
   std::vector<double> weight;      // per vertex 0..1: the share of the offset it moves
+  std::vector<double> below;       // per vertex 0..1: the share of that taken from offset_below_mm
+  // Vertex i's move back in mm.
+  double shift(size_t i) const {
+    return weight[i] * ((1 - below[i]) * offset_mm + below[i] * offset_below_mm);
+  }
 };
 
 // Finds the offset for `mesh` (head frame mm, outward normals) seen by `rig` (the photo rig:
@@ -59,8 +72,8 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
                            const FlankDepthOptions& options = {});
 
 // Moves the mesh's vertices (and each landmark with its nearest vertex) back along the front
-// camera's axis by depth.offset_mm x their weight. Throws std::invalid_argument when the weights
-// do not match the mesh.
+// camera's axis by depth.shift(i). Throws std::invalid_argument when the weights do not match
+// the mesh.
 void move_flanks(const FlankDepth& depth, const capture::CameraModel& front_camera,
                  mesh::TriMesh& mesh, std::map<std::string, Eigen::Vector3d>& landmarks);
 

@@ -89,6 +89,7 @@ nlohmann::json report_object(const Reconstruction& r) {
           // correlation there before and after; reconstruct/flank_depth.h)
           {"flank_depth",
            {{"offset_mm", rep.flanks.offset_mm},
+            {"offset_below_mm", rep.flanks.offset_below_mm},
             {"agreement_before", num(rep.flanks.agreement_before)},
             {"agreement_after", num(rep.flanks.agreement_after)},
             {"points", rep.flanks.points}}},

@@ -255,6 +255,7 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
     FlankDepth flanks = fit_flank_depth(r.mesh, front, side, out.photo_rig, options.flanks);
     move_flanks(flanks, out.photo_rig.front, r.mesh, r.landmarks);
     flanks.weight.clear();
+    flanks.below.clear();
     out.report.flanks = flanks;
     out.report.stage_ms.push_back({"flank_depth", ms_since(t)});
     t = Clock::now();

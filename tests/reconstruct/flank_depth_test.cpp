@@ -40,28 +40,49 @@ const Fitted& fitted() {
 TEST(FlankDepth, LeavesASimHeadsFlanksWhereThePhotosAgree) {
   const Reconstruction& r = fitted().rec;
   EXPECT_EQ(r.report.flanks.offset_mm, 0.0);
+  EXPECT_EQ(r.report.flanks.offset_below_mm, 0.0);
   EXPECT_GT(r.report.flanks.points, 200);
   EXPECT_GT(r.report.flanks.agreement_before, 0.2);
   EXPECT_TRUE(r.report.flanks.weight.empty());  // the report keeps the figures only
 }
 
-// Flanks pushed 6 mm forward (the fault real faces show) are found and set back.
+// Flanks pushed 6 mm forward above the nose tip (the fault real faces show) are found and set
+// back, and the face below it, where nothing moved, stays.
 TEST(FlankDepth, FindsFlanksPushedForwardAndSetsThemBack) {
   const Fitted& f = fitted();
   mesh::TriMesh pushed = f.rec.mesh;
   std::map<std::string, Eigen::Vector3d> landmarks = f.rec.landmarks;
   FlankDepth push = fit_flank_depth(pushed, f.rec.front, f.rec.side, f.rec.photo_rig);
   push.offset_mm = -6;
+  push.offset_below_mm = 0;
   move_flanks(push, f.rec.photo_rig.front, pushed, landmarks);
   const FlankDepth found = fit_flank_depth(pushed, f.rec.front, f.rec.side, f.rec.photo_rig);
   EXPECT_NEAR(found.offset_mm, 6, 2);
+  EXPECT_NEAR(found.offset_below_mm, 0, 1.5);
   EXPECT_GT(found.agreement_after, found.agreement_before + 0.05);
-  // Set back, the mesh is within a millimetre of the one fitted.
   move_flanks(found, f.rec.photo_rig.front, pushed, landmarks);
   double worst = 0;
   for (size_t i = 0; i < pushed.vertices.size(); ++i)
     worst = std::max(worst, (pushed.vertices[i] - f.rec.mesh.vertices[i]).norm());
   EXPECT_LT(worst, 2.0);
+}
+
+// With the bands off one offset moves the whole face: flanks pushed forward everywhere are set
+// back everywhere.
+TEST(FlankDepth, OneOffsetForTheWholeFaceWithoutBands) {
+  const Fitted& f = fitted();
+  mesh::TriMesh pushed = f.rec.mesh;
+  std::map<std::string, Eigen::Vector3d> landmarks = f.rec.landmarks;
+  FlankDepthOptions one;
+  one.bands = false;
+  FlankDepth push = fit_flank_depth(pushed, f.rec.front, f.rec.side, f.rec.photo_rig, one);
+  for (double b : push.below) ASSERT_EQ(b, 0.0);
+  push.offset_mm = -6;
+  move_flanks(push, f.rec.photo_rig.front, pushed, landmarks);
+  const FlankDepth found = fit_flank_depth(pushed, f.rec.front, f.rec.side, f.rec.photo_rig, one);
+  EXPECT_NEAR(found.offset_mm, 6, 2);
+  EXPECT_EQ(found.offset_below_mm, found.offset_mm);
+  EXPECT_GT(found.agreement_after, found.agreement_before + 0.05);
 }
 
 // The mesh's edge (where the head hull meets it) and its midline do not move; the flanks the
@@ -72,7 +93,7 @@ TEST(FlankDepth, MovesTheSeenFlankBackAndLeavesTheEdgeAndMidline) {
   std::map<std::string, Eigen::Vector3d> landmarks = f.rec.landmarks;
   FlankDepth d = fit_flank_depth(m, f.rec.front, f.rec.side, f.rec.photo_rig);
   ASSERT_EQ(d.weight.size(), m.vertices.size());
-  d.offset_mm = 5;
+  d.offset_mm = d.offset_below_mm = 5;
   move_flanks(d, f.rec.photo_rig.front, m, landmarks);
   std::map<std::pair<int, int>, int> uses;
   for (const auto& t : m.triangles)
@@ -109,10 +130,11 @@ TEST(FlankDepth, BadInputsAreRefused) {
   const Fitted& f = fitted();
   const auto& r = f.rec;
   const std::vector<std::function<void(FlankDepthOptions&)>> bad = {
-      [](auto& o) { o.min_mm = 1; },    [](auto& o) { o.max_mm = NAN; },
-      [](auto& o) { o.step_mm = 0; },   [](auto& o) { o.fine_mm = 7; },
-      [](auto& o) { o.min_cos = 1; },   [](auto& o) { o.min_gain = -0.1; },
-      [](auto& o) { o.min_points = 2; }};
+      [](auto& o) { o.min_mm = 1; },        [](auto& o) { o.max_mm = NAN; },
+      [](auto& o) { o.step_mm = 0; },       [](auto& o) { o.fine_mm = 7; },
+      [](auto& o) { o.min_cos = 1; },       [](auto& o) { o.min_gain = -0.1; },
+      [](auto& o) { o.min_points = 2; },    [](auto& o) { o.blend_mm = 0; },
+      [](auto& o) { o.below_max_mm = -1; }, [](auto& o) { o.below_max_mm = INFINITY; }};
   FlankDepthOptions o;
   for (size_t i = 0; i < bad.size(); ++i) {
     o = {};
@@ -134,6 +156,8 @@ TEST(FlankDepth, BadInputsAreRefused) {
   wrong.weight.assign(3, 1.0);
   mesh::TriMesh m = r.mesh;
   std::map<std::string, Eigen::Vector3d> lm;
+  EXPECT_THROW(move_flanks(wrong, r.photo_rig.front, m, lm), std::invalid_argument);
+  wrong.weight.assign(m.vertices.size(), 1.0);  // the heights' shares missing
   EXPECT_THROW(move_flanks(wrong, r.photo_rig.front, m, lm), std::invalid_argument);
   // Too few points seen by both photos: nothing moves, and the caller is told how many there were.
   FlankDepthOptions many;
