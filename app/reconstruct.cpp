@@ -41,6 +41,13 @@ Command reconstruct_command() {
             "the network confirms, else the network's; the profile's midline)"},
            {"method", true, "nnwa|interpolate  how free vertices move (default interpolate)"},
            {"k", true, "K  NNWA neighbours, 1..landmark count (default 5)"},
+           {"head-turn", true,
+            "DEG  a head turned away from the side camera by at least DEG degrees in the front "
+            "photo is modelled facing front and turned back (default 5; -1 never; "
+            "report.json head_yaw_deg, head_turn_corrected)"},
+           {"turn-toward-side", false,
+            "turn back a head turned toward the side camera too (worse on real photos: "
+            "docs/views_accuracy.md)"},
            front_background_flag(),
            side_background_flag(),
            {"force", false,
@@ -80,6 +87,8 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
     throw std::invalid_argument("--method: expected nnwa or interpolate, got '" + method + "'");
   o.adapt.method = method == "nnwa" ? model::AdaptMethod::Nnwa : model::AdaptMethod::Interpolate;
   if (a.has("k")) o.adapt.k = to_int("k", a.get("k"), 1, 100000);
+  if (a.has("head-turn")) o.min_head_turn_deg = to_double("head-turn", a.get("head-turn"), -1, 90);
+  o.turn_toward_side = a.has("turn-toward-side");
   o.force = a.has("force");
   read_clean_plates(a, o.observe);
   o.check();

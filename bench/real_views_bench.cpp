@@ -15,7 +15,8 @@
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
-// [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] [--flanks-max MM] [--flanks-below-max MM]
+// [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] [--no-flanks] [--flanks-max MM]
+// [--flanks-below-max MM]
 // [--flanks-blend MM] [--no-flank-bands] [--head face|whole
 // (default)] [--background photo (default: the views composited into the front photo's scene, the
 // head removed) | black] [--scene PHOTO: each person put in front of a scene photograph first
@@ -142,6 +143,7 @@ struct Options {
   bool equalize = render::SynthesisOptions{}.equalize;
   render::UnseenSide unseen = render::SynthesisOptions{}.unseen;
   double min_head_turn_deg = reconstruct::ReconstructOptions{}.min_head_turn_deg;
+  bool turn_toward_side = reconstruct::ReconstructOptions{}.turn_toward_side;
   bool fit_flanks = reconstruct::ReconstructOptions{}.fit_flanks;
   reconstruct::FlankDepthOptions flanks;
   reconstruct::HeadExtent head = reconstruct::HeadExtent::Whole;
@@ -233,6 +235,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       ro.observe.side_camera = vision::SideCamera::Right;  // FRMDB's Img_53 (SOURCE.md)
       ro.observe.landmarker = opt.landmarker;
       ro.min_head_turn_deg = opt.min_head_turn_deg;
+      ro.turn_toward_side = opt.turn_toward_side;
       ro.fit_flanks = opt.fit_flanks;
       ro.flanks = opt.flanks;
       const reconstruct::Reconstruction rec = reconstruct::from_photos(front, side, ro);
@@ -261,6 +264,10 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       r["head_turn_corrected"] = rec.report.head_turn_corrected;
       r["flank_offset_mm"] = rec.report.flanks.offset_mm;
       r["flank_offset_below_mm"] = rec.report.flanks.offset_below_mm;
+      for (const auto& [key, v] :
+           {std::pair{"flank_agreement_before", rec.report.flanks.agreement_before},
+            std::pair{"flank_agreement_after", rec.report.flanks.agreement_after}})
+        r[key] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
 
       // Reproduction at the source cameras: the view from the front camera against the front
       // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
@@ -542,6 +549,8 @@ int main(int argc, char** argv) {
         opt.flanks.bands = false;
       } else if (a == "--head-turn" && i + 1 < argc) {
         opt.min_head_turn_deg = std::stod(argv[++i]);
+      } else if (a == "--turn-toward-side") {
+        opt.turn_toward_side = true;
       } else if (a == "--head" && i + 1 < argc) {
         const std::string h = argv[++i];
         if (h != "face" && h != "whole") throw std::invalid_argument("--head: face or whole");
@@ -563,7 +572,8 @@ int main(int argc, char** argv) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
-             "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--no-flanks] "
+             "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] "
+             "[--no-flanks] "
              "[--flanks-max MM] [--flanks-below-max MM] [--flanks-blend MM] [--no-flank-bands] "
              "[--head face|whole] "
              "[--background photo|black] [--scene PHOTO]\n";

@@ -240,8 +240,12 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   t = Clock::now();
   const auto turn = model::estimate_head_turn(obs, out.rig, data);
   if (turn) out.report.head_yaw_deg = turn->yaw_rad * 180 / M_PI;
+  // > 0: the face turned toward the side camera where the photos were taken.
+  const double toward_side =
+      out.report.head_yaw_deg * capture::photographed_side_sign(out.photo_rig);
   out.report.head_turn_corrected = turn && options.min_head_turn_deg >= 0 &&
-                                   std::abs(out.report.head_yaw_deg) >= options.min_head_turn_deg;
+                                   std::abs(out.report.head_yaw_deg) >= options.min_head_turn_deg &&
+                                   (toward_side < 0 || options.turn_toward_side);
   if (out.report.head_turn_corrected) data = model::facing_front(data, *turn);
   static const model::BaseMesh base = model::base_mesh();
   model::AdaptResult r = model::adapt(base, data, options.adapt);

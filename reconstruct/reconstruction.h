@@ -39,10 +39,13 @@ struct ReconstructOptions {
   vision::ObserveOptions observe;              // includes --side-camera
   model::StereoOptions stereo;
   model::AdaptOptions adapt;  // --method, --k
-  // A head turned in the front photo by at least this much (degrees, model::estimate_head_turn)
-  // is modelled facing front and turned back; smaller turns are taken as frontal. Negative:
-  // never (seed 004's frontal front photo).
-  double min_head_turn_deg = -1;
+  // A head turned in the front photo away from the side camera by at least this much (degrees,
+  // model::estimate_head_turn) is modelled facing front and turned back; smaller turns are taken
+  // as frontal. Negative: never (seed 004's frontal front photo). A head turned toward the side
+  // camera is taken as frontal unless `turn_toward_side`: turning it back lost on real photos
+  // (docs/views_accuracy.md).
+  double min_head_turn_deg = 5;
+  bool turn_toward_side = false;
   // The input check (vision/pair_check.h) before modelling: a failed check refuses the pair
   // (InputRefused) unless `force`, which models it with the failures in the report's warnings.
   bool check_input = true;

@@ -108,6 +108,22 @@ TEST_F(Reconstruct, WithoutRigTheReportSaysTheScaleIsAssumed) {
               report["photographed_side_yaw_sign"] == -1.0);
 }
 
+// --head-turn and --turn-toward-side reach the model: any turn at all, either way, is turned
+// back (the sim head reads a degree or so), and -1 never.
+TEST_F(Reconstruct, HeadTurnFlagsReachTheModel) {
+  for (const auto& [flags, corrected] :
+       {std::pair{"--head-turn 0 --turn-toward-side", true}, std::pair{"--head-turn -1", false}}) {
+    const Result r = run(std::string("reconstruct --front sim/front.png --side sim/side.png "
+                                     "--rig sim/rig.yaml --out turn ") +
+                             flags,
+                         *work_);
+    ASSERT_EQ(r.code, 0) << r.err;
+    const auto report = nlohmann::json::parse(slurp(*work_ / "turn" / "report.json"));
+    EXPECT_EQ(report["head_turn_corrected"], corrected) << flags;
+    EXPECT_TRUE(report["head_yaw_deg"].is_number()) << flags;
+  }
+}
+
 TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   const std::string ok = "--front sim/front.png --side sim/side.png --out bad_out";
   expect_clean_error("reconstruct --side sim/side.png --out bad_out", "--front");
@@ -116,6 +132,8 @@ TEST_F(Reconstruct, BadArgumentsGiveOneErrorLineAndNoOutput) {
   expect_clean_error("reconstruct " + ok + " --k 0", "--k");
   expect_clean_error("reconstruct " + ok + " --rig sim/rig.yaml --k 100000", "landmark count");
   expect_clean_error("reconstruct " + ok + " --method best", "--method");
+  expect_clean_error("reconstruct " + ok + " --head-turn 91", "--head-turn");
+  expect_clean_error("reconstruct " + ok + " --head-turn left", "--head-turn");
   expect_clean_error("reconstruct " + ok + " --side-camera up", "--side-camera");
   expect_clean_error("reconstruct " + ok + " --landmarker dlib", "--landmarker");
   std::ofstream(*work_ / "not_image.png") << "this is text";
