@@ -108,7 +108,10 @@ StereoData facing_front(const StereoData& data, const HeadTurn& turn) {
     p.head_mm.x() = turned(q, back).x();
   }
   out.centre_point.x() = turn.axis.x();
-  for (Eigen::Vector2d& p : out.silhouette) p.x() = turn.axis.x() + (p.x() - turn.axis.x()) / c;
+  // The silhouette keeps its width: a head turned by t is foreshortened across its width and
+  // shows its depth in exchange (an ellipse of half-width a and half-depth b shows
+  // sqrt(a^2 cos^2 t + b^2 sin^2 t)), and on sim heads turned by 10 and 20 degrees widening it by
+  // 1 / cos t put the model further from the truth than keeping it (docs/views_accuracy.md).
   for (Eigen::Vector2d& p : out.profile)  // (z, y)
     p.x() = turn.axis.z() + (p.x() - turn.axis.z()) / c;
   return out;

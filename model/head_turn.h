@@ -45,9 +45,9 @@ std::optional<HeadTurn> estimate_head_turn(const vision::FaceObservation& observ
 
 // `data` as the head would have been seen facing the front camera (turn.yaw_rad undone):
 // features rotated about the axis (those without depth at the generic head's depth), the centre
-// line moved onto the axis, the silhouette widened by 1 / cos t about it and the profile
-// deepened by 1 / cos t (the head's widest and most projecting points lie near the axis plane
-// and the midline).
+// line moved onto the axis, the silhouette as it is (a turned head's depth makes up for its
+// foreshortened width) and the profile deepened by 1 / cos t (the most projecting points lie on
+// the midline).
 StereoData facing_front(const StereoData& data, const HeadTurn& turn);
 
 // Turns a head-facing point, mesh or landmark set to where the head stood (turn applied).
