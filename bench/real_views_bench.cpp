@@ -321,6 +321,18 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         const cv::Rect box = f ? f->box & cv::Rect(0, 0, photo.cols, photo.rows) : cv::Rect();
         if (box.width >= 4 && box.height >= 4) real_head[s] = judge::head_region(photo, box);
       }
+      // Where the nose tip lies between the outer eye corners in each real photo (dlib's points
+      // 30, 36, 45: 0 at the image-left corner, 1 at the other): the head's turn as the three
+      // cameras saw it.
+      nlohmann::json nose_between_eyes;
+      for (const auto& [key, face] :
+           {std::pair{"front", &front_face}, std::pair{"near", &real_near_face},
+            std::pair{"far", &real_far_face}})
+        if (*face) {
+          const auto& d = (*face)->points;
+          nose_between_eyes[key] = (d[30].x - d[36].x) / std::max(1e-9, double(d[45].x - d[36].x));
+        }
+      r["nose_between_eyes"] = nose_between_eyes;
       if (front_face) {  // vision's front landmarks against the judge's, / outer-eye distance
         const auto& d = front_face->points;
         const double iod = cv::norm(d[36] - d[45]);
