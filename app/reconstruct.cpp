@@ -46,8 +46,9 @@ Command reconstruct_command() {
             "photo is modelled facing front and turned back (default 5; -1 never; "
             "report.json head_yaw_deg, head_turn_corrected)"},
            {"turn-toward-side", false,
-            "turn back a head turned toward the side camera too (worse on real photos: "
-            "docs/views_accuracy.md)"},
+            "turn back a head turned toward the side camera too: right when the two photos were "
+            "taken at once (a station; sim heads 1.01 -> 0.79 %); worse on FRMDB's real pairs, "
+            "whose person seems to move between the shots (docs/views_accuracy.md)"},
            front_background_flag(),
            side_background_flag(),
            {"force", false,
