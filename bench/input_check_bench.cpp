@@ -33,6 +33,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench/bench_report.h"
+#include "io/json_text.h"
 #include "vision/foreground.h"
 #include "vision/observe.h"
 #include "vision/pair_check.h"
@@ -43,8 +44,6 @@ using namespace orthoface;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
-
 json points(const std::vector<cv::Point2d>& p) {
   json a = json::array();
   for (const auto& q : p) a.push_back({q.x, q.y});
@@ -54,19 +53,19 @@ json points(const std::vector<cv::Point2d>& p) {
 json measures_json(const vision::PairMeasures& m) {
   return {{"front_faces", m.front.faces},
           {"front_face_px", m.front.box.width},
-          {"front_score", num(m.front.score)},
-          {"front_turn", num(m.front.turn)},
-          {"front_blur", num(m.front_blur)},
-          {"front_clipped", num(m.front_clipped)},
-          {"front_luma", num(m.front_luma)},
+          {"front_score", io::number_or_null(m.front.score)},
+          {"front_turn", io::number_or_null(m.front.turn)},
+          {"front_blur", io::number_or_null(m.front_blur)},
+          {"front_clipped", io::number_or_null(m.front_clipped)},
+          {"front_luma", io::number_or_null(m.front_luma)},
           {"side_faces", m.side.faces},
-          {"side_score", num(m.side.score)},
-          {"side_turn", num(m.side.turn)},
-          {"side_angle_deg", num(m.side_angle_deg)},
-          {"height_residual", num(m.height_residual)},
-          {"skin_delta_e", num(m.skin_delta_e)},
+          {"side_score", io::number_or_null(m.side.score)},
+          {"side_turn", io::number_or_null(m.side.turn)},
+          {"side_angle_deg", io::number_or_null(m.side_angle_deg)},
+          {"height_residual", io::number_or_null(m.height_residual)},
+          {"skin_delta_e", io::number_or_null(m.skin_delta_e)},
           {"side_facing_against", m.side_facing_against},
-          {"colour_distance", num(m.colour_distance)},
+          {"colour_distance", io::number_or_null(m.colour_distance)},
           {"side_points", points(m.side.points)},
           {"front_points", points(m.front.points)}};
 }

@@ -16,8 +16,7 @@
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
 // G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
 // [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] [--no-flanks] [--flanks-max MM]
-// [--flanks-below-max MM]
-// [--flanks-blend MM] [--no-flank-bands] [--head face|whole
+// [--flanks-below-max MM] [--flanks-blend MM] [--no-flank-bands] [--head face|whole
 // (default)] [--background photo (default: the views composited into the front photo's scene, the
 // head removed) | black] [--scene PHOTO: each person put in front of a scene photograph first
 // (into_scene)]. JSON on stdout, Markdown on stderr, both in OUTDIR with one contact sheet per
@@ -38,6 +37,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "bench/bench_report.h"
+#include "io/json_text.h"
 #include "judge/face_judge.h"
 #include "judge/head_region.h"
 #include "model/symmetry.h"
@@ -264,10 +264,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       r["head_turn_corrected"] = rec.report.head_turn_corrected;
       r["flank_offset_mm"] = rec.report.flanks.offset_mm;
       r["flank_offset_below_mm"] = rec.report.flanks.offset_below_mm;
-      for (const auto& [key, v] :
-           {std::pair{"flank_agreement_before", rec.report.flanks.agreement_before},
-            std::pair{"flank_agreement_after", rec.report.flanks.agreement_after}})
-        r[key] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
+      r["flank_agreement_before"] = io::number_or_null(rec.report.flanks.agreement_before);
+      r["flank_agreement_after"] = io::number_or_null(rec.report.flanks.agreement_after);
 
       // Reproduction at the source cameras: the view from the front camera against the front
       // photo, and from the side camera (raw colours: the side photo is otherwise mapped to the
@@ -585,9 +583,8 @@ int main(int argc, char** argv) {
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
              "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
              "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] "
-             "[--no-flanks] "
-             "[--flanks-max MM] [--flanks-below-max MM] [--flanks-blend MM] [--no-flank-bands] "
-             "[--head face|whole] "
+             "[--no-flanks] [--flanks-max MM] [--flanks-below-max MM] [--flanks-blend MM] "
+             "[--no-flank-bands] [--head face|whole] "
              "[--background photo|black] [--scene PHOTO]\n";
       return 2;
     }

@@ -21,6 +21,10 @@ std::string json_type_error(const std::string& field, const std::string& expecte
   return field + ": expected " + expected + ", got " + json_type_name(got);
 }
 
+nlohmann::json number_or_null(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
+
 double json_number(const nlohmann::json& value, const std::string& field) {
   if (!value.is_number()) throw std::invalid_argument(json_type_error(field, "a number", value));
   const double d = value.get<double>();

@@ -20,6 +20,9 @@ std::string json_type_error(const std::string& field, const std::string& expecte
 // string" or "FIELD: expected a finite number" (the caller names the file).
 double json_number(const nlohmann::json& value, const std::string& field);
 
+// `v` as a JSON number, or null when it is not finite (a measure that was not taken).
+nlohmann::json number_or_null(double v);
+
 // The text of a JSON library exception without its "[json.exception.parse_error.101] " tag.
 std::string json_error_text(const std::exception& e);
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <tuple>
@@ -218,8 +219,8 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
       band_pass(front, front_reach, o.fine_mm * front_scale, o.coarse_mm * front_scale);
   const BandPassed side_bp =
       band_pass(side, side_reach, o.fine_mm * side_scale, o.coarse_mm * side_scale);
-  // The correlation over the points `in` selects, each moved by its weight x
-  // ((1 - below) x up + below x down).
+  // The correlation over the points of `band` (by their share below the nose tip), each moved by
+  // its weight x ((1 - below) x up + below x down).
   enum class Band { kAll, kUpper, kLower };
   auto agreement = [&](double up, double down, Band band) {
     std::vector<float> a, b;
@@ -252,16 +253,18 @@ FlankDepth fit_flank_depth(const mesh::TriMesh& mesh, const cv::Mat& front, cons
   };
   out.agreement_before = out.agreement_after = agreement(0, 0, Band::kAll);
   if (!std::isfinite(out.agreement_before)) return out;
-  const double whole = search(o.max_mm, [&](double d) { return agreement(d, d, Band::kAll); });
-  out.offset_mm = out.offset_below_mm = whole;
-  if (o.bands) {
-    // Each band on its own points; a band too small to score keeps the whole face's offset.
-    if (std::isfinite(agreement(0, 0, Band::kUpper)))
-      out.offset_mm = search(o.max_mm, [&](double d) { return agreement(d, d, Band::kUpper); });
-    if (std::isfinite(agreement(0, 0, Band::kLower)))
-      out.offset_below_mm =
-          search(o.below_max_mm, [&](double d) { return agreement(d, d, Band::kLower); });
-  }
+  auto band_offset = [&](Band band, double max_mm) {
+    return search(max_mm, [&](double d) { return agreement(d, d, band); });
+  };
+  // Each band on its own points; without bands, or for a band too small to score, the whole
+  // face's one offset.
+  std::optional<double> whole;
+  auto whole_face = [&] { return whole ? *whole : *(whole = band_offset(Band::kAll, o.max_mm)); };
+  auto scored = [&](Band band) { return o.bands && std::isfinite(agreement(0, 0, band)); };
+  out.offset_mm = scored(Band::kUpper) ? band_offset(Band::kUpper, o.max_mm) : whole_face();
+  out.offset_below_mm = !o.bands               ? out.offset_mm
+                        : scored(Band::kLower) ? band_offset(Band::kLower, o.below_max_mm)
+                                               : whole_face();
   out.agreement_after = agreement(out.offset_mm, out.offset_below_mm, Band::kAll);
   return out;
 }

@@ -54,16 +54,13 @@ nlohmann::json landmarks_json(const Reconstruction& r) {
           {"landmarks", l}};
 }
 
-// A measure, or null when it was not taken (NaN).
-nlohmann::json num(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-}
-
 // Each check of the input check: passed, the measure and its limit (null when not measured).
 nlohmann::json input_check_json(const std::vector<vision::InputCheck>& checks) {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& c : checks)
-    j[c.name] = {{"passed", c.passed}, {"value", num(c.value)}, {"limit", num(c.limit)}};
+    j[c.name] = {{"passed", c.passed},
+                 {"value", io::number_or_null(c.value)},
+                 {"limit", io::number_or_null(c.limit)}};
   return j;
 }
 
@@ -90,8 +87,8 @@ nlohmann::json report_object(const Reconstruction& r) {
           {"flank_depth",
            {{"offset_mm", rep.flanks.offset_mm},
             {"offset_below_mm", rep.flanks.offset_below_mm},
-            {"agreement_before", num(rep.flanks.agreement_before)},
-            {"agreement_after", num(rep.flanks.agreement_after)},
+            {"agreement_before", io::number_or_null(rep.flanks.agreement_before)},
+            {"agreement_after", io::number_or_null(rep.flanks.agreement_after)},
             {"points", rep.flanks.points}}},
           {"stage_ms", stages},
           {"total_ms", total},

@@ -37,6 +37,12 @@ TEST(JsonText, NumbersAreReadAndEverythingElseIsNamed) {
             "top level: expected an object, got an array");
 }
 
+TEST(JsonText, AMeasureNotTakenIsNull) {
+  EXPECT_EQ(number_or_null(2.5), nlohmann::json(2.5));
+  EXPECT_TRUE(number_or_null(std::numeric_limits<double>::quiet_NaN()).is_null());
+  EXPECT_TRUE(number_or_null(-std::numeric_limits<double>::infinity()).is_null());
+}
+
 TEST(JsonText, LibraryMessagesLoseTheirTag) {
   try {
     const json j = json::parse("{ \"a\": ");

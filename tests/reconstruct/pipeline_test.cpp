@@ -107,11 +107,10 @@ TEST(Pipeline, ASidePhotoOfAnotherSizeIsRescaled) {
 }
 
 // A head turned in the rig (both true cameras swung about it) is modelled facing front and
-// turned back when it turned away from the side camera, whose photo then still shows the
-// profile; turned toward it, the side photo's outline is the far cheek and the head is taken as
-// frontal, unless asked.
+// turned back when it turned away from the side camera; turned toward it, it is taken as frontal
+// unless asked (real pairs lose then: docs/views_accuracy.md). The sim's side camera stands at
+// +x, and the cameras swung by +12 degrees show the face turned toward it.
 TEST(Pipeline, AHeadTurnedAwayFromTheSideCameraIsModelledFacingFront) {
-  int corrected = 0;
   for (const double yaw : {12.0, -12.0}) {
     sim::RigOptions ro;
     ro.front_error.yaw_deg = ro.side_error.yaw_deg = yaw;
@@ -121,15 +120,14 @@ TEST(Pipeline, AHeadTurnedAwayFromTheSideCameraIsModelledFacingFront) {
     const Reconstruction r = from_photos(cap.front, cap.side, o);
     // Within the estimate's error on sim heads (generic depths: 16.4 degrees read for 12).
     EXPECT_NEAR(std::abs(r.report.head_yaw_deg), 12, 6) << "cameras turned " << yaw;
-    const double toward_side = r.report.head_yaw_deg * capture::photographed_side_sign(r.photo_rig);
-    EXPECT_EQ(r.report.head_turn_corrected, toward_side < 0) << "cameras turned " << yaw;
-    corrected += r.report.head_turn_corrected;
+    ASSERT_EQ(capture::photographed_side_sign(r.photo_rig), 1.0);
+    EXPECT_GT(r.report.head_yaw_deg * yaw, 0) << "cameras turned " << yaw;
+    EXPECT_EQ(r.report.head_turn_corrected, yaw < 0) << "cameras turned " << yaw;
     o.turn_toward_side = true;
     EXPECT_TRUE(from_photos(cap.front, cap.side, o).report.head_turn_corrected);
     o.min_head_turn_deg = -1;
     EXPECT_FALSE(from_photos(cap.front, cap.side, o).report.head_turn_corrected);
   }
-  EXPECT_EQ(corrected, 1);  // one of the two directions
 }
 
 // On sim heads turned 20 degrees either way in the rig, the model built facing front and turned
