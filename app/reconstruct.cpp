@@ -51,6 +51,10 @@ Command reconstruct_command() {
             "whose person seems to move between the shots (docs/views_accuracy.md)"},
            front_background_flag(),
            side_background_flag(),
+           {"check-identity", false,
+            "also refuse a side photo of someone else: the front photo's face against the "
+            "model's 45-degree view (face recognition; about 0.4 s more; its weights: "
+            "scripts/fetch-face-model.sh; docs/input_check.md)"},
            {"force", false,
             "model the pair even when the input check fails (the failures go to report.json's "
             "warnings); without it a failed check exits 3 (docs/input_check.md)"}},
@@ -91,6 +95,7 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
   if (a.has("head-turn")) o.min_head_turn_deg = to_double("head-turn", a.get("head-turn"), -1, 90);
   o.turn_toward_side = a.has("turn-toward-side");
   o.force = a.has("force");
+  o.check_identity = a.has("check-identity");
   read_clean_plates(a, o.observe);
   o.check();
   return o;

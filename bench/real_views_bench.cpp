@@ -9,6 +9,8 @@
 //     the real photo's, the mean distance over jaw, nose and mouth points / the real outer-eye
 //     distance; the photographed side against Img_43, the other side against Img_23; a view
 //     without a face counts 1.0;
+//   - identity at +-45 degrees: the face descriptor distance (vision::FaceDescriber, face-api.js's
+//     recognition network) from the view to the real photo, where dlib finds both faces;
 //   - the baseline: the front photo Img_33 itself scored the same way;
 //   - the view from each source camera against its photo (PSNR where that photo sees the head);
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
@@ -45,6 +47,7 @@
 #include "render/contact_sheet.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
+#include "vision/face_descriptor.h"
 #include "vision/foreground.h"
 
 namespace {
@@ -213,6 +216,14 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   int cut_out = 0;                    // pairs vision cut out of a busy background
   double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
+  // Identity at +-45: face descriptor distance (vision::FaceDescriber) from the view to the real
+  // photo, and from the front photo unrotated to it (the baseline), where dlib finds all three.
+  double id_sum[2] = {0, 0}, id_base_sum[2] = {0, 0};
+  int id_n[2] = {0, 0}, id_better[2] = {0, 0};
+  const vision::FaceDescriber* describer = vision::shared_describer();
+  if (!describer)
+    std::cerr << "identity at 45 left out: no face-recognition weights in "
+              << vision::default_model_dir() << " (scripts/fetch-face-model.sh)\n";
   double iou_base_sum = 0;  // the front photo's head, unrotated, against the same real heads
   int iou_base_n = 0;
   std::string md =
@@ -355,6 +366,11 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       tiles.push_back({shown(crop).clone(), p + " front (Img_33)"});
       std::string found_text;
       double nme[2] = {NAN, NAN}, base[2] = {NAN, NAN}, head_iou[2] = {NAN, NAN};
+      const auto describe = [&](const cv::Mat& image, const auto& face) {
+        return vision::FaceDescriptor(describer->describe(image, face->points));
+      };
+      std::optional<vision::FaceDescriptor> front_id;
+      if (describer && front_face) front_id = describe(front, front_face);
       std::pair<cv::Mat, cv::Mat> real_outline[2];
       for (int k = 0; k < 3; ++k) {
         int n_found = 0;
@@ -409,6 +425,16 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
               cv::warpAffine(v.view.mask, carried, m, real_head[side_k].size(), cv::INTER_NEAREST);
               real_outline[side_k] = {real_head[side_k].clone(), carried};
             }
+          }
+          if (front_id && face) {
+            const vision::FaceDescriptor real_d =
+                describe(side_k == 0 ? real_near : real_far, real_face);
+            const double id = vision::descriptor_distance(describe(image, face), real_d);
+            const double id_base = vision::descriptor_distance(*front_id, real_d);
+            r["identity_45"][side_k == 0 ? "photographed" : "other"] = id;
+            r["baseline_identity_45"][side_k == 0 ? "photographed" : "other"] = id_base;
+            id_sum[side_k] += id, id_base_sum[side_k] += id_base, ++id_n[side_k];
+            if (id < id_base) ++id_better[side_k];
           }
           nme[side_k] = judge::shape_nme_or_miss(face, real_face->points);
           base[side_k] = judge::shape_nme_or_miss(front_face, real_face->points);
@@ -476,6 +502,12 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                      {"baseline_mean", base_sum[s] / nme_n[s]},
                                      {"better_than_baseline", better[s]},
                                      {"scored", compared[s]}};
+  for (int s = 0; s < 2; ++s)
+    if (id_n[s] > 0)
+      out["identity_45"][side_name[s]] = {{"mean", id_sum[s] / id_n[s]},
+                                          {"baseline_mean", id_base_sum[s] / id_n[s]},
+                                          {"better_than_baseline", id_better[s]},
+                                          {"scored", id_n[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
   if (iou_n > 0) out["head_iou_45"] = {{"mean", iou_sum / iou_n}, {"scored", iou_n}};
   if (iou_base_n > 0)
@@ -507,6 +539,12 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       md += cv::format(
           "NME at 45 (%s side): %.3f, baseline %.3f, better than the baseline on %d/%d.\n",
           side_name[s], nme_sum[s] / nme_n[s], base_sum[s] / nme_n[s], better[s], compared[s]);
+  for (int s = 0; s < 2; ++s)
+    if (id_n[s] > 0)
+      md += cv::format(
+          "Identity at 45 (%s side; face descriptor distance to the real photo, same person "
+          "below about 0.55): %.3f, the front photo unrotated %.3f, closer on %d/%d.\n",
+          side_name[s], id_sum[s] / id_n[s], id_base_sum[s] / id_n[s], id_better[s], id_n[s]);
   if (iou_n > 0)
     md += cv::format(
         "Head silhouette at 45 (eye-aligned, above the real chin) against GrabCut's head in the "

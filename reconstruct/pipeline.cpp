@@ -16,6 +16,8 @@
 #include "mesh/mesh_io.h"
 #include "model/base_mesh.h"
 #include "model/head_turn.h"
+#include "reconstruct/identity.h"
+#include "vision/face_descriptor.h"
 #include "vision/head_silhouette.h"
 #include "vision/landmarks.h"
 #include "vision/observation_io.h"
@@ -158,6 +160,10 @@ InputRefused::InputRefused(const std::string& check, const std::string& problem)
 Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
                            const ReconstructOptions& options_in) {
   options_in.check();
+  if (options_in.check_input && options_in.check_identity && !vision::shared_describer())
+    throw std::runtime_error("identity check: no face-recognition weights in " +
+                             vision::default_model_dir() +
+                             " (scripts/fetch-face-model.sh fetches them)");
   if (front.empty()) throw std::invalid_argument("front photo is empty");
   if (side_in.empty()) throw std::invalid_argument("side photo is empty");
   if (options_in.rig) check_rig_fits(*options_in.rig, front, side_in);
@@ -196,6 +202,24 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
   }
   const double check_ms = ms_since(t1);
   Reconstruction r = from_observation(obs, front, side, options);
+  if (options.check_input && options.check_identity) {
+    const auto t2 = Clock::now();
+    vision::InputCheck c;
+    c.name = "same_person_face";
+    c.limit = options.input_limits.max_face_distance;
+    if (const auto d = front_to_view_face_distance(r)) c.value = *d;
+    if (c.value > c.limit) {
+      c.passed = false;
+      c.problem = cv::format(
+          "the model's 45-degree view does not look like the front photo's person (face "
+          "descriptor distance %.2f, limit %.2f): the side photo may show someone else",
+          c.value, c.limit);
+      if (!options.force) throw InputRefused(c.name, c.problem);
+      failures.push_back("input check " + c.name + " failed (--force): " + c.problem);
+    }
+    checks.push_back(c);
+    r.report.stage_ms.push_back({"identity_check", ms_since(t2)});
+  }
   if (options.observe.background_front.size() == front.size())
     r.front_plate = options.observe.background_front;
   r.report.stage_ms.insert(r.report.stage_ms.begin(), {"observe", observe_ms});

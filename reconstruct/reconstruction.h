@@ -50,6 +50,12 @@ struct ReconstructOptions {
   // (InputRefused) unless `force`, which models it with the failures in the report's warnings.
   bool check_input = true;
   bool force = false;
+  // With check_input, also the same_person_face check after modelling: the front photo's face
+  // against the model's 45-degree view (reconstruct/identity.h; limit
+  // input_limits.max_face_distance). About 0.4 s a pair; off by default. Needs the
+  // face-recognition weights (scripts/fetch-face-model.sh): from_photos throws
+  // std::runtime_error without them.
+  bool check_identity = false;
   vision::PairCheckLimits input_limits;
   // The face's flanks set back to where the two photos agree (reconstruct/flank_depth.h);
   // false keeps the adapted mesh as it is.

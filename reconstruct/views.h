@@ -65,6 +65,10 @@ class ViewRenderer {
   // The view at yaw / pitch in degrees (capture::camera_at's convention; `render --help`):
   // yaw -180..180, pitch -89..89, else std::invalid_argument.
   FinishedView view(double yaw_deg, double pitch_deg);
+  // The camera view() draws from (the output's size, turned about the head's pivot).
+  capture::CameraModel camera(double yaw_deg, double pitch_deg) const {
+    return model_.camera(base_, yaw_deg, pitch_deg);
+  }
   cv::Mat image(double yaw_deg, double pitch_deg) { return view(yaw_deg, pitch_deg).image; }
 
   int width() const { return width_; }

