@@ -83,19 +83,29 @@ int nose_tip_index(const std::vector<cv::Point2d>& c, double H) {
 }
 
 // Under the chin the curve runs backward a long way (lips only step back a little): the first
-// index below the tip where it heads back and keeps going 0.07 H within 0.15 H; -1 if none.
-int under_chin(const std::vector<cv::Point2d>& c, int tip, double H) {
+// index below the tip where it heads back and keeps going 0.07 H within 0.15 H; -1 if none. A
+// receding chin also heads back below the lower lip, but down more than back (020 of FRMDB: the
+// chin 30 px back over 45 px down, then the dark throat lost against a dark shirt), so the run
+// must first reach its 0.07 H back in less height than it goes back (`steep` false); only when no
+// such run exists is a steeper one taken.
+int under_chin(const std::vector<cv::Point2d>& c, int tip, double H, bool steep) {
   const int n = int(c.size());
   const int lower = std::max(2, first_row_at_least(c, c[tip].y + 0.12 * H));
   const int reach = std::max(4, int(0.15 * H));
   for (int i = lower; i + 2 < n; ++i) {
     const cv::Point2d d = c[i + 2] - c[i - 2];
     if (!(d.x > 0 && std::abs(d.y) < 0.7 * d.x)) continue;
-    double xmax = c[i].x;
-    for (int j = i; j < std::min(n, i + reach); ++j) xmax = std::max(xmax, c[j].x);
-    if (xmax - c[i].x > 0.07 * H) return i;
+    for (int j = i; j < std::min(n, i + reach); ++j) {
+      if (c[j].x - c[i].x <= 0.07 * H) continue;
+      if (steep || std::abs(c[j].y - c[i].y) < c[j].x - c[i].x) return i;
+      break;
+    }
   }
   return -1;
+}
+int under_chin(const std::vector<cv::Point2d>& c, int tip, double H) {
+  const int shallow = under_chin(c, tip, H, false);
+  return shallow >= 0 ? shallow : under_chin(c, tip, H, true);
 }
 
 // Subnasale: where the columella (running back under the nose) turns down into the upper lip.

@@ -94,6 +94,29 @@ TEST(SideProfile, NasionIsTheBendWhenTheHeadLeansForward) {
   EXPECT_NEAR(upright.features.at("nose_bridge").px.y, 110, 1.5);
 }
 
+// A receding chin (FRMDB 020): below the lower lip the profile steps back a little (the
+// mentolabial fold), then runs down and back along the chin to the menton (row 229), then back
+// under the jaw. The chin's slope heads back 0.07 H within 0.15 H too, but down more than back;
+// taken for the under-chin it put the chin and the chin bottom on the lower lip (rows 185-190).
+TEST(SideProfile, ARecedingChinIsNotTheUnderChin) {
+  const std::vector<cv::Point> poly = {{150, 20},  {110, 40},  {100, 90},  {102, 110}, {80, 130},
+                                       {96, 142},  {92, 160},  {98, 175},  {94, 185},  {98, 186},
+                                       {108, 203}, {112, 208}, {111, 214}, {116, 224}, {120, 229},
+                                       {160, 232}, {165, 300}};
+  const ov::SideProfile sp = landmarks_of(poly);
+  ASSERT_EQ(sp.features.count("chin"), 1u);
+  ASSERT_EQ(sp.features.count("chin_bottom"), 1u);
+  ASSERT_EQ(sp.features.count("lip_lower"), 1u);
+  EXPECT_NEAR(sp.features.at("chin").px.y, 214, 4.0);
+  EXPECT_NEAR(sp.features.at("chin_bottom").px.y, 226, 8.0);  // the menton, not the lip
+  EXPECT_NEAR(sp.features.at("lip_lower").px.y, 185, 6.0);
+  // The upright profile keeps its chin (row 195) and its bottom above the under-chin (row 215).
+  const ov::SideProfile upright = landmarks_of(profile_polygon());
+  EXPECT_NEAR(upright.features.at("chin").px.y, 195, 3.0);
+  EXPECT_GT(upright.features.at("chin_bottom").px.y, 195);
+  EXPECT_LT(upright.features.at("chin_bottom").px.y, 216);
+}
+
 // A profile facing image-left with a dark eye blob 30 px behind its edge at row 100: the eye's
 // front / back ends and iris come out at the blob; plain skin or a window off the image gives none.
 TEST(SideEye, FindsTheBlobBehindTheProfileAndNothingOnSkin) {
