@@ -221,18 +221,36 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
 }
 
 // Ear of the side camera's side from a position model relative to the nose tip (seed 004 §4
-// position model; the ear itself is weakly textured, so confidence stays low).
-void add_side_ears(const SideResult& s, std::map<std::string, Feature2d>& f) {
+// position model; the ear itself is weakly textured, so confidence stays low). The model is
+// scaled by the front photo's outer-eye distance carried into the side photo's pixels (the
+// rows' registration), which the trained front landmarks give within a few per cent, rather than
+// by the side blob's head height, which hair and collars inflate (251..539 px over the 26 shared
+// FRMDB people for heads of about one size). Constants: the tragus placed by hand on 24 FRMDB
+// profiles (the ear visible) lies 1.51 outer-eye distances behind the nose tip (spread 0.14) and
+// 0.05 below it (spread 0.17, the head's pitch); with the head height it was 0.60 H behind (spread
+// 0.09 H, about 30 px) and the old model's 0.48 H put it a median 35 px in front of the ear and 31
+// px above it (docs/views_accuracy.md). Without both eye corners the head height scales it.
+void add_side_ears(const SideResult& s, const FaceObservation& obs,
+                   std::map<std::string, Feature2d>& f) {
   const auto tip = s.profile.features.find("nose_tip");
   if (tip == s.profile.features.end()) return;
   const double H = s.profile.head_height_px, dir = s.faces_left ? 1 : -1;
   const std::string side = s.faces_left ? "left" : "right";
+  const auto& front = obs.front.features;
+  const auto eye_l = front.find("eye_left_outer"), eye_r = front.find("eye_right_outer");
+  double back = 0.48 * H, down = -0.085 * H, top_back = 0.10 * H, top_up = 0.145 * H;
+  if (eye_l != front.end() && eye_r != front.end() && eye_l->second.confidence > 0 &&
+      eye_r->second.confidence > 0) {
+    const double e = cv::norm(eye_l->second.px - eye_r->second.px) * side_row_map(obs).a;
+    if (e > 0 && std::isfinite(e))
+      back = 1.51 * e, down = 0.05 * e, top_back = 0.25 * e, top_up = 0.37 * e;
+  }
   Feature2d t;
-  t.px = tip->second.px + cv::Point2d(dir * 0.48 * H, -0.085 * H);
+  t.px = tip->second.px + cv::Point2d(dir * back, down);
   t.confidence = 0.15;
   t.method = "position-model";
   f["ear_" + side + "_tragus"] = t;
-  t.px = tip->second.px + cv::Point2d(dir * 0.58 * H, -0.23 * H);
+  t.px = tip->second.px + cv::Point2d(dir * (back + top_back), down - top_up);
   f["ear_" + side + "_top"] = t;
 }
 
@@ -488,7 +506,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     obs.side.features[n] = g;
   }
   std::map<std::string, Feature2d> ears;
-  add_side_ears(s, ears);
+  add_side_ears(s, obs, ears);
   for (auto& [n, f] : ears) f.px = out_px(f.px), obs.side.features[n] = f;
   add_front_tragi(obs);
   add_side_eye(side, s, obs);
