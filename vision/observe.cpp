@@ -221,15 +221,14 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
 }
 
 // Ear of the side camera's side from a position model relative to the nose tip (seed 004 §4
-// position model; the ear itself is weakly textured, so confidence stays low). The model is
-// scaled by the front photo's outer-eye distance carried into the side photo's pixels (the
-// rows' registration), which the trained front landmarks give within a few per cent, rather than
-// by the side blob's head height, which hair and collars inflate (251..539 px over the 26 shared
-// FRMDB people for heads of about one size). Constants: the tragus placed by hand on 24 FRMDB
-// profiles (the ear visible) lies 1.51 outer-eye distances behind the nose tip (spread 0.14) and
-// 0.05 below it (spread 0.17, the head's pitch); with the head height it was 0.60 H behind (spread
-// 0.09 H, about 30 px) and the old model's 0.48 H put it a median 35 px in front of the ear and 31
-// px above it (docs/views_accuracy.md). Without both eye corners the head height scales it.
+// position model; the ear itself is weakly textured, so confidence stays low). Scaled by the
+// front photo's outer-eye distance carried into the side photo's pixels (the rows'
+// registration) rather than by the side blob's head height, which hair and collars inflate.
+// The tragus: 1.51 outer-eye distances behind the tip and 0.05 below it, the medians of the
+// tragus placed by hand on 24 FRMDB profiles (spreads 0.14 and 0.17; docs/views_accuracy.md).
+// The ear's top keeps the head-height model's offset from the tragus, converted at that set's
+// median H = 2.54 eye distances (not measured). Without both eye corners the head height
+// scales it as before.
 void add_side_ears(const SideResult& s, const FaceObservation& obs,
                    std::map<std::string, Feature2d>& f) {
   const auto tip = s.profile.features.find("nose_tip");

@@ -82,13 +82,10 @@ int nose_tip_index(const std::vector<cv::Point2d>& c, double H) {
   return argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
 }
 
-// Under the chin the curve runs backward a long way (lips only step back a little): the first
-// index below the tip where it heads back and keeps going 0.07 H within 0.15 H; -1 if none. A
-// receding chin also heads back below the lower lip, but down more than back (020 of FRMDB: the
-// chin 30 px back over 45 px down, then the dark throat lost against a dark shirt), so the run
-// must first reach its 0.07 H back in less height than it goes back (`steep` false); only when no
-// such run exists is a steeper one taken.
-int under_chin(const std::vector<cv::Point2d>& c, int tip, double H, bool steep) {
+// The first index below the tip where the curve heads back and keeps going 0.07 H within 0.15 H;
+// -1 if none. With `shallow_only` the run must reach its 0.07 H back in less height than it goes
+// back.
+int backward_run(const std::vector<cv::Point2d>& c, int tip, double H, bool shallow_only) {
   const int n = int(c.size());
   const int lower = std::max(2, first_row_at_least(c, c[tip].y + 0.12 * H));
   const int reach = std::max(4, int(0.15 * H));
@@ -96,16 +93,22 @@ int under_chin(const std::vector<cv::Point2d>& c, int tip, double H, bool steep)
     const cv::Point2d d = c[i + 2] - c[i - 2];
     if (!(d.x > 0 && std::abs(d.y) < 0.7 * d.x)) continue;
     for (int j = i; j < std::min(n, i + reach); ++j) {
-      if (c[j].x - c[i].x <= 0.07 * H) continue;
-      if (steep || std::abs(c[j].y - c[i].y) < c[j].x - c[i].x) return i;
+      const double back = c[j].x - c[i].x;
+      if (back <= 0.07 * H) continue;
+      if (!shallow_only || std::abs(c[j].y - c[i].y) < back) return i;
       break;
     }
   }
   return -1;
 }
+
+// Under the chin the curve runs backward a long way (lips only step back a little). A receding
+// chin also heads back below the lower lip, but down more than back (FRMDB 020: the chin 30 px
+// back over 45 px down, then the dark throat lost against a dark shirt), so a shallow run is
+// taken first and a steeper one only when there is none.
 int under_chin(const std::vector<cv::Point2d>& c, int tip, double H) {
-  const int shallow = under_chin(c, tip, H, false);
-  return shallow >= 0 ? shallow : under_chin(c, tip, H, true);
+  const int shallow = backward_run(c, tip, H, true);
+  return shallow >= 0 ? shallow : backward_run(c, tip, H, false);
 }
 
 // Subnasale: where the columella (running back under the nose) turns down into the upper lip.
