@@ -137,18 +137,31 @@ std::vector<Slice> head_slices(const cv::Mat& front, const cv::Mat& side,
   x_ref = up.front().xc;
   z_ref = up.front().zc;
   double narrowest = std::numeric_limits<double>::infinity();
+  std::optional<Slice> narrow;  // the last slice before the front silhouette widens
+  bool widened = false;
   std::optional<Slice> neck;  // the neck's last slice before the shoulders
   for (double y = mean.y() - o.slice_mm; y > face_bottom - o.max_neck_mm; y -= o.slice_mm) {
     auto s = slice_at(front, side, rig, y, x_ref, z_ref);
     if (!s && !neck) break;
-    // Below the chin the neck is narrower than the jaw: a slice much wider than the narrowest
-    // since the jaw reaches the shoulders (or hair on them); from there on the neck goes on as
-    // its last slice (the body stays the photo's, render::CompositeOptions).
-    if (s) narrowest = std::min(narrowest, s->a);
-    if (y < face_bottom && (neck || !s || s->a > o.collar_widening * narrowest)) {
+    // Below the face's middle the neck is narrower than the jaw: a slice much wider than the
+    // narrowest since reaches the shoulders (or hair on them). On a short neck that happens
+    // above the chin, beside the jaw; from there the slices keep the side photo's depth but the
+    // narrow slice's width, and below the chin the neck goes on as its last slice (the body
+    // stays the photo's, render::CompositeOptions).
+    if (s && !widened) {
+      narrowest = std::min(narrowest, s->a);
+      if (s->a > o.collar_widening * narrowest)
+        widened = true;
+      else
+        narrow = *s;
+    }
+    if (y < face_bottom && (neck || !s || widened)) {
       if (!neck) neck = down.empty() ? *s : down.back();
       s = *neck;
       s->y = y;
+    } else if (widened && narrow) {
+      s->xc = narrow->xc;
+      s->a = std::min(s->a, narrow->a);
     }
     down.push_back(*s);
     x_ref = s->xc;

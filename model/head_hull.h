@@ -26,8 +26,9 @@ struct HullOptions {
   double hollow_mm = 10, hollow_deg = 12;
   double face_slope = 1.0;        // past the face's edge the hull rises back to its silhouette at
                                   // this many mm per mm, so it never stands in front of that edge
-  double collar_widening = 1.35;  // the neck ends where the front silhouette is this many times
-                                  // its narrowest width below the chin (the shoulders begin)
+  double collar_widening = 1.35;  // the shoulders begin where the front silhouette is this many
+                                  // times its narrowest width below the face's middle; from there
+                                  // the hull keeps the last narrower slice's width
   double max_neck_mm = 70;        // and at most this far below the face mesh's lowest point
   void check() const;             // throws std::invalid_argument naming the bad field
 };

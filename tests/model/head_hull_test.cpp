@@ -156,6 +156,31 @@ TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
   EXPECT_LT(widest, 52);
 }
 
+// A short neck: the front silhouette reaches the shoulders above the face's lowest point (a
+// dark shirt merged with the neck). Beside the jaw and below it the hull keeps the width of the
+// last slice before the shoulders, not a slab as wide as them.
+TEST(HeadHull, ShouldersAboveTheChinDoNotWidenTheNeck) {
+  KnownHead k;
+  const Eigen::Vector2d a = capture::project(k.rig.front, {-130, -30, 0});
+  const Eigen::Vector2d b = capture::project(k.rig.front, {130, -400, 0});
+  cv::rectangle(k.front, cv::Point(int(a.x()), int(a.y())), cv::Point(int(b.x()), int(b.y())),
+                cv::Scalar(255), cv::FILLED);
+  const HeadHull hull = head_hull(k.front, k.side, k.rig, face_patch());
+  ASSERT_FALSE(hull.mesh.triangles.empty());
+  ASSERT_TRUE(hull.pivot.allFinite());
+  EXPECT_NEAR(hull.pivot.x(), 0, 2);
+  // The ellipsoid's half width 28 mm below the face's middle, where the shoulders begin: 67 mm.
+  double beside_jaw = 0, below = 0;
+  for (const auto& v : hull.mesh.vertices) {
+    if (v.y() < -32 && v.y() > -40) beside_jaw = std::max(beside_jaw, std::abs(v.x()));
+    if (v.y() < -50) below = std::max(below, std::abs(v.x()));
+  }
+  EXPECT_GT(beside_jaw, 55);
+  EXPECT_LT(beside_jaw, 72);
+  EXPECT_GT(below, 55);
+  EXPECT_LT(below, 72);
+}
+
 // The side photo's cut misses the top of the head (hair on a dark curtain, a pair not taken at
 // one height): the head still reaches the front silhouette's top, narrowing in depth as in width.
 TEST(HeadHull, ReachesTheFrontSilhouettesTopAboveTheSides) {
