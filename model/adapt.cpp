@@ -53,10 +53,13 @@ void AdaptOptions::check() const {
         "AdaptOptions: min_outlier_shift_mm must be in (0, max_feature_shift_mm]");
   if (!(outlier_factor > 0))
     throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
-  if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0)
+  if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0 || smooth_iterations < 0)
     throw std::invalid_argument(
-        "AdaptOptions: blend_rings, blend_iterations and "
-        "max_fold_passes must be >= 0");
+        "AdaptOptions: blend_rings, blend_iterations, max_fold_passes and "
+        "smooth_iterations must be >= 0");
+  if (!(rough_from_mm >= 0 && rough_full_mm > rough_from_mm))
+    throw std::invalid_argument(
+        "AdaptOptions: rough_from_mm and rough_full_mm must satisfy 0 <= from < full");
 }
 
 double interpolate_between(double x_l, double x_r, double base_l, double base_r, double base_x) {
@@ -189,6 +192,10 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
                               ? base.neighbours
                               : detail::vertex_adjacency(base.mesh);
   detail::blend_near_features(adjacency, aligned, r.targets, options, moved);
+  const detail::Smoothing sm =
+      detail::smooth_if_rough(adjacency, aligned, r.targets, options, moved);
+  r.roughness_mm = sm.roughness_mm;
+  r.smoothed_share = sm.share;
   r.mesh = base.mesh;
   r.mesh.vertices = std::move(moved);
   const auto [fixed, remaining] =

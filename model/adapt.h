@@ -22,9 +22,18 @@ struct AdaptOptions {
   AdaptMethod method = AdaptMethod::Interpolate;  // the default: lower relative error than
                                                   // Nnwa and the turned views' outline right
   int k = 5;                                      // NNWA neighbours; 1 <= k <= number of landmarks
-  int blend_rings = 2;               // free vertices this close to a feature get smoothed
-  int blend_iterations = 3;          // smoothing passes of their displacement
-  int max_fold_passes = 20;          // relaxation passes to remove flipped triangles
+  int blend_rings = 2;       // free vertices this close to a feature get smoothed
+  int blend_iterations = 3;  // smoothing passes of their displacement
+  int max_fold_passes = 20;  // relaxation passes to remove flipped triangles
+  // Noise in the observations (a real silhouette's hair, a misplaced feature, midline heights
+  // that miss the base's by a slice) leaves ridges and spikes in the free vertices'
+  // displacement, row by row. Its roughness is the median distance of a free vertex's
+  // displacement from the field smoothed by smooth_iterations passes (each vertex halfway to
+  // its neighbours' mean; targets stay); the smoothed field replaces the raw one by a share
+  // rising from 0 at rough_from_mm to 1 at rough_full_mm. Clean data (the sim heads and the
+  // Lee Perry-Smith scan: 0.14-0.55 mm) keeps its detail; the 26 FRMDB pairs measure 0.88-2.15.
+  int smooth_iterations = 7;
+  double rough_from_mm = 0.6, rough_full_mm = 0.9;
   double ear_margin_mm = 8.0;        // slices within the ear's heights (+ margin) take no
                                      // silhouette data (the silhouette is the ear); < 0: use all
   double jaw_margin_mm = 5.0;        // slices this far below the mouth corners take no
@@ -34,7 +43,8 @@ struct AdaptOptions {
   double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
   void check() const;  // throws std::invalid_argument (k < 1, negative counts,
-                       // outlier limits not 0 < min <= max, factor <= 0)
+                       // outlier limits not 0 < min <= max, factor <= 0, roughness limits
+                       // not 0 <= from < full)
 };
 
 // Seed 002 §3.3.1: aligned = scale .* base + translation (landmark centres of gravity made
@@ -77,6 +87,8 @@ struct AdaptResult {
   LandmarkTargets targets;                           // what the data fixed
   Alignment alignment;
   int folds_fixed = 0, folds_remaining = 0;  // flipped triangles vs the aligned base
+  double roughness_mm = 0;    // the displacement's roughness (AdaptOptions::smooth_iterations)
+  double smoothed_share = 0;  // ... and the share of the smoothed field it was given
   std::vector<std::string> warnings;
 };
 

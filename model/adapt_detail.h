@@ -46,6 +46,16 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
                          const LandmarkTargets& targets, const AdaptOptions& options,
                          std::vector<Eigen::Vector3d>& moved);
 
+// The displacement of the free vertices smoothed in proportion to its roughness
+// (AdaptOptions::smooth_iterations, rough_from_mm, rough_full_mm); `moved` is updated.
+struct Smoothing {
+  double roughness_mm = 0, share = 0;
+};
+Smoothing smooth_if_rough(const std::vector<std::vector<int>>& adjacency,
+                          const std::vector<Eigen::Vector3d>& aligned,
+                          const LandmarkTargets& targets, const AdaptOptions& options,
+                          std::vector<Eigen::Vector3d>& moved);
+
 // Relaxes vertices of triangles flipped against the same triangles on `reference` (vertex
 // positions, same topology; free vertices first, then any) until none is flipped or the passes
 // run out. Returns {folds found at the start, folds left}.

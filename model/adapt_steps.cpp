@@ -318,6 +318,39 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
   for (int v = 0; v < n; ++v) moved[v] = aligned[v] + d[v];
 }
 
+Smoothing smooth_if_rough(const std::vector<std::vector<int>>& adjacency,
+                          const std::vector<Eigen::Vector3d>& aligned,
+                          const LandmarkTargets& targets, const AdaptOptions& options,
+                          std::vector<Eigen::Vector3d>& moved) {
+  const size_t n = moved.size();
+  std::vector<char> is_target(n, 0);
+  for (int v : targets.vertices) is_target[size_t(v)] = 1;
+  std::vector<Eigen::Vector3d> d(n);
+  for (size_t v = 0; v < n; ++v) d[v] = moved[v] - aligned[v];
+  for (int it = 0; it < options.smooth_iterations; ++it) {
+    std::vector<Eigen::Vector3d> next = d;
+    for (size_t v = 0; v < n; ++v) {
+      if (is_target[v] || adjacency[v].empty()) continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int w : adjacency[v]) mean += d[size_t(w)];
+      next[v] = 0.5 * d[v] + 0.5 * mean / static_cast<double>(adjacency[v].size());
+    }
+    d.swap(next);
+  }
+  std::vector<double> deviation;
+  for (size_t v = 0; v < n; ++v)
+    if (!is_target[v]) deviation.push_back((aligned[v] + d[v] - moved[v]).norm());
+  Smoothing s;
+  if (deviation.empty()) return s;
+  std::nth_element(deviation.begin(), deviation.begin() + deviation.size() / 2, deviation.end());
+  s.roughness_mm = deviation[deviation.size() / 2];
+  s.share = std::clamp(
+      (s.roughness_mm - options.rough_from_mm) / (options.rough_full_mm - options.rough_from_mm),
+      0.0, 1.0);
+  for (size_t v = 0; v < n; ++v) moved[v] += s.share * (aligned[v] + d[v] - moved[v]);
+  return s;
+}
+
 std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
                                  const std::vector<Eigen::Vector3d>& reference,
                                  const LandmarkTargets& targets, int max_passes,

@@ -123,6 +123,8 @@ void fill_report(const vision::FaceObservation& obs, const model::StereoData& da
   rep.landmarks_used = static_cast<int>(r.targets.vertices.size());
   rep.folds_fixed = r.folds_fixed;
   rep.folds_remaining = r.folds_remaining;
+  rep.surface_roughness_mm = r.roughness_mm;
+  rep.surface_smoothed_share = r.smoothed_share;
 }
 
 // A rig file is for one image size per camera: photos of another size would be modelled with

@@ -90,6 +90,9 @@ struct ReconstructionReport {
   double head_yaw_deg = std::numeric_limits<double>::quiet_NaN();
   bool head_turn_corrected = false;
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
+  // The adapted mesh's displacement roughness and the share of it smoothed away
+  // (model::AdaptOptions::smooth_iterations).
+  double surface_roughness_mm = 0, surface_smoothed_share = 0;
   std::vector<vision::InputCheck> input_checks;  // empty when the check did not run
   // The side photo's scale to the front photo's height (1 when they share it; without a rig a
   // side photo of another height is rescaled and kept so in the reconstruction).

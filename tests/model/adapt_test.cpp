@@ -149,6 +149,76 @@ TEST(Adapt, NoFoldsWithNoisyFeatures) {
   }
 }
 
+// Roughness: the median distance of a free vertex from its neighbours' mean (mm).
+double vertex_roughness(const mesh::TriMesh& m, const LandmarkTargets& targets) {
+  const auto adjacency = detail::vertex_adjacency(m);
+  std::vector<char> is_target(m.vertices.size(), 0);
+  for (int v : targets.vertices) is_target[size_t(v)] = 1;
+  std::vector<double> r;
+  for (size_t v = 0; v < m.vertices.size(); ++v) {
+    if (is_target[v] || adjacency[v].empty()) continue;
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int w : adjacency[v]) mean += m.vertices[size_t(w)];
+    r.push_back((m.vertices[v] - mean / double(adjacency[v].size())).norm());
+  }
+  std::nth_element(r.begin(), r.begin() + r.size() / 2, r.end());
+  return r[r.size() / 2];
+}
+
+// Clean observations keep every detail; jagged ones (a silhouette and profile that zigzag by
+// 6 px row to row, features a few px off) are smoothed, and the mesh ends nearer the truth.
+TEST(Adapt, SmoothsTheDisplacementOnlyWhenItIsRough) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1.05, 0.95, 1.05}, {1, -2, 2});
+  const AdaptResult clean = adapt(base, stereo_match(s.observation, s.rig));
+  EXPECT_LT(clean.roughness_mm, AdaptOptions{}.rough_from_mm);
+  EXPECT_EQ(clean.smoothed_share, 0.0);
+
+  int row = 0;
+  for (cv::Point2d& p : s.observation.front.boundary) p.x += (row++ % 2 ? 6 : -6);
+  for (cv::Point2d& p : s.observation.side.boundary) p.x += (row++ % 2 ? 6 : -6);
+  int k = 0;
+  for (auto& [name, f] : s.observation.front.features) f.px.y += (k++ % 3 - 1) * 5.0;
+  const StereoData noisy = stereo_match(s.observation, s.rig);
+  AdaptOptions raw;
+  raw.smooth_iterations = 0;
+  const AdaptResult rough = adapt(base, noisy, raw);
+  const AdaptResult smoothed = adapt(base, noisy);
+  EXPECT_GT(smoothed.roughness_mm, AdaptOptions{}.rough_full_mm);
+  EXPECT_EQ(smoothed.smoothed_share, 1.0);
+  EXPECT_LT(vertex_roughness(smoothed.mesh, smoothed.targets),
+            0.8 * vertex_roughness(rough.mesh, rough.targets));
+  auto error = [&](const mesh::TriMesh& m) {
+    double e = 0;
+    for (size_t i = 0; i < m.vertices.size(); ++i)
+      e += (m.vertices[i] - s.truth.mesh.vertices[i]).norm() / double(m.vertices.size());
+    return e;
+  };
+  EXPECT_LT(error(smoothed.mesh), error(rough.mesh));
+}
+
+TEST(Adapt, BadSmoothingOptionsThrowNamingThem) {
+  const BaseMesh base = base_mesh();
+  const auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
+  const StereoData d = stereo_match(s.observation, s.rig);
+  AdaptOptions o;
+  o.smooth_iterations = -1;
+  try {
+    adapt(base, d, o);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("smooth_iterations"), std::string::npos);
+  }
+  o = {};
+  o.rough_full_mm = o.rough_from_mm;
+  try {
+    adapt(base, d, o);
+    ADD_FAILURE() << "no throw";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rough_full_mm"), std::string::npos);
+  }
+}
+
 TEST(Adapt, MissingFeaturesFallBackWithWarning) {
   const BaseMesh base = base_mesh();
   auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
