@@ -26,14 +26,15 @@ struct AdaptOptions {
   int blend_iterations = 3;  // smoothing passes of their displacement
   int max_fold_passes = 20;  // relaxation passes to remove flipped triangles
   // Noise in the observations (a real silhouette's hair, a misplaced feature, midline heights
-  // that miss the base's by a slice) leaves ridges and spikes in the free vertices'
-  // displacement, row by row. Its roughness is the median distance of a free vertex's
-  // displacement from the field smoothed by smooth_iterations passes (each vertex halfway to
-  // its neighbours' mean; targets stay); the smoothed field replaces the raw one by a share
-  // rising from 0 at rough_from_mm to 1 at rough_full_mm. Clean data (the sim heads and the
-  // Lee Perry-Smith scan: 0.14-0.55 mm) keeps its detail; the 26 FRMDB pairs measure 0.88-2.15.
+  // that miss the base's by a slice) and real faces' departures from the generic base leave
+  // ridges and spikes in the free vertices' displacement, row by row. Its roughness is the
+  // median distance of a free vertex's displacement from the field smoothed by
+  // smooth_iterations passes (each vertex halfway to its neighbours' mean; targets stay); the
+  // smoothed field replaces the raw one by a share rising from 0 at rough_from_mm to 1 at
+  // rough_full_mm. The sim heads, made from the generic base's own family, measure 0.14-0.39 mm
+  // and keep their detail; the Lee Perry-Smith scan 0.47-0.55, the 26 FRMDB pairs 0.88-2.15.
   int smooth_iterations = 7;
-  double rough_from_mm = 0.6, rough_full_mm = 0.9;
+  double rough_from_mm = 0.4, rough_full_mm = 0.6;
   double ear_margin_mm = 8.0;        // slices within the ear's heights (+ margin) take no
                                      // silhouette data (the silhouette is the ear); < 0: use all
   double jaw_margin_mm = 5.0;        // slices this far below the mouth corners take no
