@@ -284,6 +284,33 @@ std::vector<Eigen::Vector3d> move_by_interpolation(const BaseMesh& base,
   return out;
 }
 
+namespace {
+
+// The displacement moved - aligned after `iterations` passes that take each movable vertex's
+// halfway to its neighbours' mean (the others keep theirs).
+std::vector<Eigen::Vector3d> relaxed_displacement(const std::vector<std::vector<int>>& adjacency,
+                                                  const std::vector<Eigen::Vector3d>& aligned,
+                                                  const std::vector<Eigen::Vector3d>& moved,
+                                                  const std::vector<char>& movable,
+                                                  int iterations) {
+  const size_t n = moved.size();
+  std::vector<Eigen::Vector3d> d(n);
+  for (size_t v = 0; v < n; ++v) d[v] = moved[v] - aligned[v];
+  for (int it = 0; it < iterations; ++it) {
+    std::vector<Eigen::Vector3d> next = d;
+    for (size_t v = 0; v < n; ++v) {
+      if (!movable[v] || adjacency[v].empty()) continue;
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int w : adjacency[v]) mean += d[size_t(w)];
+      next[v] = 0.5 * d[v] + 0.5 * mean / static_cast<double>(adjacency[v].size());
+    }
+    d.swap(next);
+  }
+  return d;
+}
+
+}  // namespace
+
 void blend_near_features(const std::vector<std::vector<int>>& adjacency,
                          const std::vector<Eigen::Vector3d>& aligned,
                          const LandmarkTargets& targets, const AdaptOptions& options,
@@ -303,18 +330,10 @@ void blend_near_features(const std::vector<std::vector<int>>& adjacency,
     for (int w : adjacency[v])
       if (ring[w] < 0) ring[w] = ring[v] + 1, q.push(w);
   }
-  std::vector<Eigen::Vector3d> d(n);
-  for (int v = 0; v < n; ++v) d[v] = moved[v] - aligned[v];
-  for (int it = 0; it < options.blend_iterations; ++it) {
-    std::vector<Eigen::Vector3d> next = d;
-    for (int v = 0; v < n; ++v) {
-      if (ring[v] <= 0 || is_target[v]) continue;
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int w : adjacency[v]) mean += d[w];
-      next[v] = 0.5 * d[v] + 0.5 * mean / static_cast<double>(adjacency[v].size());
-    }
-    d.swap(next);
-  }
+  std::vector<char> movable(size_t(n), 0);
+  for (int v = 0; v < n; ++v) movable[size_t(v)] = ring[v] > 0 && !is_target[v];
+  const std::vector<Eigen::Vector3d> d =
+      relaxed_displacement(adjacency, aligned, moved, movable, options.blend_iterations);
   for (int v = 0; v < n; ++v) moved[v] = aligned[v] + d[v];
 }
 
@@ -323,23 +342,13 @@ Smoothing smooth_if_rough(const std::vector<std::vector<int>>& adjacency,
                           const LandmarkTargets& targets, const AdaptOptions& options,
                           std::vector<Eigen::Vector3d>& moved) {
   const size_t n = moved.size();
-  std::vector<char> is_target(n, 0);
-  for (int v : targets.vertices) is_target[size_t(v)] = 1;
-  std::vector<Eigen::Vector3d> d(n);
-  for (size_t v = 0; v < n; ++v) d[v] = moved[v] - aligned[v];
-  for (int it = 0; it < options.smooth_iterations; ++it) {
-    std::vector<Eigen::Vector3d> next = d;
-    for (size_t v = 0; v < n; ++v) {
-      if (is_target[v] || adjacency[v].empty()) continue;
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (int w : adjacency[v]) mean += d[size_t(w)];
-      next[v] = 0.5 * d[v] + 0.5 * mean / static_cast<double>(adjacency[v].size());
-    }
-    d.swap(next);
-  }
+  std::vector<char> movable(n, 1);
+  for (int v : targets.vertices) movable[size_t(v)] = 0;
+  const std::vector<Eigen::Vector3d> d =
+      relaxed_displacement(adjacency, aligned, moved, movable, options.smooth_iterations);
   std::vector<double> deviation;
   for (size_t v = 0; v < n; ++v)
-    if (!is_target[v]) deviation.push_back((aligned[v] + d[v] - moved[v]).norm());
+    if (movable[v]) deviation.push_back((aligned[v] + d[v] - moved[v]).norm());
   Smoothing s;
   if (deviation.empty()) return s;
   std::nth_element(deviation.begin(), deviation.begin() + deviation.size() / 2, deviation.end());
