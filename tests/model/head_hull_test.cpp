@@ -133,13 +133,18 @@ TEST(HeadHull, MeetsTheFacesTopEdgeFlush) {
   EXPECT_GT(inner_gap, 2.5);
 }
 
-TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
-  KnownHead k;
-  // Shoulders: the front silhouette widens to 2.5 x the neck 100 mm below the face.
-  const Eigen::Vector2d a = capture::project(k.rig.front, {-130, -140, 0});
+// Shoulders in the front silhouette: 130 mm to each side of the midline from height top_y (mm)
+// down past the frame.
+void add_shoulders(KnownHead& k, double top_y) {
+  const Eigen::Vector2d a = capture::project(k.rig.front, {-130, top_y, 0});
   const Eigen::Vector2d b = capture::project(k.rig.front, {130, -400, 0});
   cv::rectangle(k.front, cv::Point(int(a.x()), int(a.y())), cv::Point(int(b.x()), int(b.y())),
                 cv::Scalar(255), cv::FILLED);
+}
+
+TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
+  KnownHead k;
+  add_shoulders(k, -140);  // 2.5 x the neck's width, 100 mm below the face
   HullOptions o;
   o.max_neck_mm = 200;
   const HeadHull hull = head_hull(k.front, k.side, k.rig, face_patch(), o);
@@ -161,10 +166,7 @@ TEST(HeadHull, TurnsAboutTheNeckAndStopsItAtTheShoulders) {
 // last slice before the shoulders, not a slab as wide as them.
 TEST(HeadHull, ShouldersAboveTheChinDoNotWidenTheNeck) {
   KnownHead k;
-  const Eigen::Vector2d a = capture::project(k.rig.front, {-130, -30, 0});
-  const Eigen::Vector2d b = capture::project(k.rig.front, {130, -400, 0});
-  cv::rectangle(k.front, cv::Point(int(a.x()), int(a.y())), cv::Point(int(b.x()), int(b.y())),
-                cv::Scalar(255), cv::FILLED);
+  add_shoulders(k, -30);
   const HeadHull hull = head_hull(k.front, k.side, k.rig, face_patch());
   ASSERT_FALSE(hull.mesh.triangles.empty());
   ASSERT_TRUE(hull.pivot.allFinite());
