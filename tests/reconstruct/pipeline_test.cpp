@@ -8,6 +8,7 @@
 
 #include "capture/camera_model.h"
 #include "model/evaluate.h"
+#include "reconstruct/identity.h"
 #include "reconstruct/reconstruction.h"
 #include "sim/head.h"
 #include "sim/rig.h"
@@ -109,6 +110,30 @@ TEST(Pipeline, TheIdentityCheckMeasuresAndRefusesByName) {
   EXPECT_EQ(forced.report.warnings[0].rfind("input check same_person_face failed", 0), 0u);
   o.input_limits.max_face_distance = 0;
   EXPECT_THROW(from_photos(cap.front, cap.side, o), std::invalid_argument);  // a bad limit
+}
+
+// The identity check views the face as adapted before smoothing (the smoothing hides two
+// people's misfit): with the smoothing forced on a sim pair, the check's distance is that of the
+// model made without smoothing, not that of the smoothed model it returns.
+TEST(Pipeline, TheIdentityCheckViewsTheUnsmoothedFace) {
+  if (!vision::shared_describer())
+    GTEST_SKIP() << "no face-recognition weights (scripts/fetch-face-model.sh)";
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(4), sim::RigOptions{});
+  ReconstructOptions smoothed;
+  smoothed.adapt.rough_from_mm = 0;
+  smoothed.adapt.rough_full_mm = 1e-3;
+  ReconstructOptions raw;
+  raw.adapt.smooth_iterations = 0;
+  const Reconstruction s = from_photos(cap.front, cap.side, smoothed);
+  ASSERT_EQ(s.report.surface_smoothed_share, 1.0);
+  const auto d_smoothed = front_to_view_face_distance(s);
+  const auto d_raw = front_to_view_face_distance(from_photos(cap.front, cap.side, raw));
+  ASSERT_TRUE(d_smoothed && d_raw);
+  ASSERT_GT(std::abs(*d_smoothed - *d_raw), 1e-6);  // else the test could not tell them apart
+  smoothed.check_identity = true;
+  const Reconstruction checked = from_photos(cap.front, cap.side, smoothed);
+  EXPECT_NEAR(checked.report.input_checks.back().value, *d_raw, 1e-9);
+  EXPECT_EQ(checked.mesh.vertices, s.mesh.vertices);  // the model itself stays smoothed
 }
 
 // Without a rig a side photo of another resolution is rescaled to the front photo's height (it
