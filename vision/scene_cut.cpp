@@ -58,6 +58,9 @@ void border_prior(cv::Mat& trimap, const cv::Mat& border) {
 // step within kCutSnapPx (vision/edges.h). In fillPoly's fixed point (kSubPixelBits).
 constexpr double kCutSnapPx = 5.0;
 constexpr int kSubPixelBits = 3;
+// drop_foreign_colours: the least share of the head core's pixels a colour (with its neighbouring
+// bins) must hold to be the head's.
+constexpr double kForeignShare = 0.002;
 std::vector<cv::Point> on_colour_steps(const cv::Mat& bgr, const std::vector<cv::Point>& outline) {
   const int n = int(outline.size()), k = 3;
   std::vector<cv::Point2d> points(n), normals(n);
@@ -159,6 +162,65 @@ void clip_to_symmetry(SceneCut& cut, double cx, int last_row, double slack_px) {
   cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
 }
 
+// Scene objects that touch the head (a toy at the temple, a disc on the crown) join the cut
+// when GrabCut's scene colours lack theirs. Above `last_row` the cut's pixels whose colour the
+// head's sure core (trimap GC_FGD: the inner face, the hair or scalp above the brows) never
+// shows, within one colour bin either way, are dropped; the part holding `seed` is kept, its
+// holes filled. Rows from `last_row` down (neck, clothes) stay as cut.
+void drop_foreign_colours(const cv::Mat& bgr, const cv::Mat& trimap, int last_row, cv::Point seed,
+                          SceneCut& cut) {
+  if (cut.mask.empty()) return;
+  std::vector<float> core(kColourBins, 0.f);
+  double n = 0;
+  for (int r = 0; r < bgr.rows; ++r) {
+    const cv::Vec3b* p = bgr.ptr<cv::Vec3b>(r);
+    const uchar* t = trimap.ptr<uchar>(r);
+    for (int c = 0; c < bgr.cols; ++c)
+      if (t[c] == cv::GC_FGD) core[size_t(colour_bin(p[c]))] += 1, ++n;
+  }
+  if (n < 100) return;
+  // A colour is the head's when its bin or a neighbouring one holds a share of the core.
+  std::vector<char> head(kColourBins, 0);
+  const float min_count = float(kForeignShare * n);
+  for (int b = 0; b < kColourLevels; ++b)
+    for (int g = 0; g < kColourLevels; ++g)
+      for (int r = 0; r < kColourLevels; ++r) {
+        float sum = 0;
+        for (int db = -1; db <= 1; ++db)
+          for (int dg = -1; dg <= 1; ++dg)
+            for (int dr = -1; dr <= 1; ++dr) {
+              const int bb = b + db, gg = g + dg, rr = r + dr;
+              if (bb < 0 || gg < 0 || rr < 0 || bb >= kColourLevels || gg >= kColourLevels ||
+                  rr >= kColourLevels)
+                continue;
+              sum += core[size_t((bb * kColourLevels + gg) * kColourLevels + rr)];
+            }
+        head[size_t((b * kColourLevels + g) * kColourLevels + r)] = sum >= min_count;
+      }
+  cv::Mat kept = cut.mask.clone();
+  const int rows = std::clamp(last_row, 0, bgr.rows);
+  for (int r = 0; r < rows; ++r) {
+    const cv::Vec3b* p = bgr.ptr<cv::Vec3b>(r);
+    uchar* m = kept.ptr<uchar>(r);
+    for (int c = 0; c < bgr.cols; ++c)
+      if (m[c] && !head[size_t(colour_bin(p[c]))]) m[c] = 0;
+  }
+  cv::morphologyEx(kept, kept, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(kept, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  for (const auto& contour : contours) {
+    if (cv::pointPolygonTest(contour, cv::Point2f(seed), false) < 0) continue;
+    cv::Mat part = cv::Mat::zeros(kept.size(), CV_8U);
+    cv::fillPoly(part, std::vector<std::vector<cv::Point>>{contour}, cv::Scalar(255));
+    part &= cut.mask;  // holes filled, nothing added beyond the cut
+    cut.mask = part;
+    cut.mask.convertTo(cut.probability, CV_32F, 1.0 / 255);
+    cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
+    return;
+  }
+}
+
 }  // namespace
 
 double scene_spill(const cv::Mat& mask, const cv::Rect2d& face) {
@@ -233,6 +295,7 @@ SceneCut cut_front(const cv::Mat& front, const cv::Rect2d& face, const cv::Mat& 
   fill(trimap, {cx - 0.15 * fw, chin + 0.2 * fh, 0.3 * fw, 0.3 * fh}, cv::GC_FGD);
   SceneCut cut = grab_cut(front, trimap, {cx - 2.4 * fw, top - 1.5 * fh, 4.8 * fw, down},
                           cv::Point(int(cx), int(top + 0.4 * fh)), int(fw / 15));
+  drop_foreign_colours(front, trimap, int(chin), cv::Point(int(cx), int(top + 0.4 * fh)), cut);
   clip_to_symmetry(cut, cx, int(chin + 0.5 * fh), 0.05 * fw);
   return cut;
 }
