@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 #include <opencv2/video/tracking.hpp>
@@ -47,6 +48,37 @@ cv::Mat warp(const cv::Mat& image, const cv::Mat& flow, double k) {
   return out;
 }
 
+// Burt & Adelson 1983 ("A Multiresolution Spline With Application to Image Mosaics", ACM TOG
+// 2(4), §3): each Laplacian band of `a` and `b` (CV_32FC3) mixed by the share `w` of `a`
+// (CV_32F, 0..1) smoothed to that band's scale, the bands summed back. A step in brightness
+// between the two photos spreads over the coarsest band's reach (2^(levels-1) px), while edges
+// and texture still switch within a pixel or two, so neither a hard seam nor a ghost shows.
+cv::Mat multiband(const cv::Mat& a, const cv::Mat& b, const cv::Mat& w, int levels) {
+  std::vector<cv::Mat> pa{a}, pb{b}, pw{w};
+  for (int l = 1; l < levels && std::min(pa.back().rows, pa.back().cols) >= 8; ++l) {
+    cv::Mat da, db, dw;
+    cv::pyrDown(pa.back(), da);
+    cv::pyrDown(pb.back(), db);
+    cv::pyrDown(pw.back(), dw);
+    pa.push_back(da), pb.push_back(db), pw.push_back(dw);
+  }
+  auto mix = [](const cv::Mat& x, const cv::Mat& y, const cv::Mat& share) {
+    cv::Mat s3;
+    cv::merge(std::vector<cv::Mat>(3, share), s3);
+    return cv::Mat(x.mul(s3) + y.mul(cv::Scalar::all(1.0) - s3));
+  };
+  const size_t top = pa.size() - 1;
+  cv::Mat out = mix(pa[top], pb[top], pw[top]);
+  for (size_t l = top; l-- > 0;) {
+    cv::Mat up, ua, ub;
+    cv::pyrUp(out, up, pa[l].size());
+    cv::pyrUp(pa[l + 1], ua, pa[l].size());
+    cv::pyrUp(pb[l + 1], ub, pa[l].size());
+    out = up + mix(pa[l] - ua, pb[l] - ub, pw[l]);
+  }
+  return out;
+}
+
 }  // namespace
 
 double float_alpha(const cv::Vec3d& to_view, const cv::Vec3d& to_front, const cv::Vec3d& to_side) {
@@ -74,6 +106,9 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
   if (!(in.alpha >= 0 && in.alpha <= 1))
     throw std::invalid_argument("float_textures: alpha must be in 0..1, got " +
                                 std::to_string(in.alpha));
+  if (in.bands < 1 || in.bands > 12)
+    throw std::invalid_argument("float_textures: bands must be 1..12, got " +
+                                std::to_string(in.bands));
   FloatResult r;
   r.image = base.clone();
   const int margin = 16;
@@ -102,14 +137,29 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
   const cv::Mat w0 = warp(src[0], f10, in.alpha);
   const cv::Mat w1 = warp(src[1], f01, 1.0 - in.alpha);
 
+  // eq. 4's blend of the two aligned images, band by band: the share of the front photo among
+  // the two, the unseen fill added after.
+  cv::Mat share(roi.size(), CV_32F);
+  for (int y = 0; y < roi.height; ++y) {
+    const auto* wt = in.weights.ptr<cv::Vec3b>(roi.y + y) + roi.x;
+    auto* sh = share.ptr<float>(y);
+    for (int x = 0; x < roi.width; ++x) {
+      const int s = wt[x][0] + wt[x][1];
+      sh[x] = s > 0 ? float(wt[x][0]) / float(s) : 0.5f;
+    }
+  }
+  cv::Mat f0, f1;
+  w0.convertTo(f0, CV_32FC3);
+  w1.convertTo(f1, CV_32FC3);
+  const cv::Mat both = multiband(f0, f1, share, in.bands);
+
   double shift = 0;
   for (int y = 0; y < roi.height; ++y) {
     const auto* m = in.mask.ptr<uchar>(roi.y + y) + roi.x;
     const auto* a0 = in.available[0].ptr<uchar>(roi.y + y) + roi.x;
     const auto* a1 = in.available[1].ptr<uchar>(roi.y + y) + roi.x;
     const auto* wt = in.weights.ptr<cv::Vec3b>(roi.y + y) + roi.x;
-    const auto* c0 = w0.ptr<cv::Vec3b>(y);
-    const auto* c1 = w1.ptr<cv::Vec3b>(y);
+    const auto* c = both.ptr<cv::Vec3f>(y);
     const auto* f = f01.ptr<cv::Vec2f>(y);
     auto* out = r.image.ptr<cv::Vec3b>(roi.y + y) + roi.x;
     for (int x = 0; x < roi.width; ++x) {
@@ -118,9 +168,9 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
       // eq. 4: the blend's own weights, now over aligned images.
       const double s = wt[x][0] + wt[x][1] + wt[x][2];
       if (s <= 0) continue;
-      for (int c = 0; c < 3; ++c)
-        out[x][c] = cv::saturate_cast<uchar>(
-            (wt[x][0] * c0[x][c] + wt[x][1] * c1[x][c] + wt[x][2] * in.fill[c]) / s);
+      for (int k = 0; k < 3; ++k)
+        out[x][k] =
+            cv::saturate_cast<uchar>(((wt[x][0] + wt[x][1]) * c[x][k] + wt[x][2] * in.fill[k]) / s);
     }
   }
   if (r.overlap_pixels > 0) r.mean_shift_px = shift / r.overlap_pixels;

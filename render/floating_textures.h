@@ -11,6 +11,8 @@ namespace orthoface::render {
 // Kroeger et al. 2016) finds how far apart each feature landed; each image is then warped to
 // the position between them given by `alpha` (0: where the front photo put it, 1: where the side
 // photo put it) before the usual blend, so a feature appears once, whichever photo colours it.
+// The blend runs band by band (Burt & Adelson 1983): the two photos' difference in brightness
+// fades over tens of pixels instead of showing as a seam.
 struct FloatInputs {
   cv::Mat source[2];     // CV_8UC3: the new view coloured by the front (0) / side (1) photo alone
   cv::Mat available[2];  // CV_8U: 255 where that photo sees the surface (else its colour is junk)
@@ -18,6 +20,7 @@ struct FloatInputs {
   cv::Mat mask;          // CV_8U: the surface (non-zero) in the new view
   cv::Vec3b fill{128, 128, 128};  // BGR where no photo sees the surface
   double alpha = 0;               // 0..1: the geometry's reference (see above)
+  int bands = 6;  // the aligned images are blended in this many Laplacian bands (1: per pixel)
 };
 
 struct FloatResult {

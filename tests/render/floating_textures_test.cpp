@@ -64,12 +64,48 @@ TEST(FloatingTextures, AlignsTwoShiftedRenderingsAtTheAlphaPosition) {
 
 TEST(FloatingTextures, AlphaZeroKeepsTheFrontRenderingUnmoved) {
   const cv::Mat a = scene(0), b = scene(12);
-  const FloatInputs in = seam_inputs(a, b, 0.0);
+  FloatInputs in = seam_inputs(a, b, 0.0);
+  in.bands = 1;  // per pixel: the bands would carry the side's brightness across the seam
   const FloatResult r = float_textures(in, pick(in));
   const cv::Rect left(0, 0, kW / 2, kH);  // the front photo's share: not warped at all
   EXPECT_TRUE(std::isinf(psnr(a(left), r.image(left))));
   const cv::Rect right(kW / 2, 16, kW / 2 - 24, kH - 32);  // the side's, moved onto the front's
   EXPECT_GT(psnr(a(right), r.image(right)), 28.0);
+}
+
+// The side photo 40 grey levels brighter than the front, aligned: per pixel the blend steps by
+// 40 at the seam; band by band the step fades out and the texture stays as sharp as it was.
+TEST(FloatingTextures, ABrightnessStepBetweenThePhotosLeavesNoSeam) {
+  const cv::Mat a = scene(0), b = a + cv::Scalar::all(40);
+  auto blend = [&](int bands) {
+    FloatInputs in = seam_inputs(a, b, 0.5);
+    in.bands = bands;
+    return float_textures(in, pick(in)).image;
+  };
+  // The step across the seam beyond the texture's own, mean over rows (grey levels).
+  auto step = [&](const cv::Mat& image) {
+    double sum = 0;
+    for (int y = 0; y < kH; ++y) {
+      const cv::Vec3b p = image.at<cv::Vec3b>(y, kW / 2), q = image.at<cv::Vec3b>(y, kW / 2 - 1);
+      const cv::Vec3b s = a.at<cv::Vec3b>(y, kW / 2), t = a.at<cv::Vec3b>(y, kW / 2 - 1);
+      sum += double(p[1]) - q[1] - (double(s[1]) - t[1]);
+    }
+    return sum / kH;
+  };
+  // Detail: the image less its blur (sigma 1.5 px) against the source's, each side of the seam.
+  auto detail = [](const cv::Mat& image) {
+    cv::Mat f, blurred;
+    image.convertTo(f, CV_32FC3);
+    cv::GaussianBlur(f, blurred, cv::Size(0, 0), 1.5);
+    return cv::Mat(f - blurred);
+  };
+  const cv::Mat per_pixel = blend(1), banded = blend(6);
+  EXPECT_NEAR(step(per_pixel), 40.0, 2.0);
+  EXPECT_LT(std::abs(step(banded)), 6.0);
+  const cv::Mat d = detail(banded), da = detail(a), db = detail(b);
+  const cv::Rect left(8, 8, kW / 2 - 24, kH - 16), right(kW / 2 + 16, 8, kW / 2 - 24, kH - 16);
+  EXPECT_LT(cv::norm(d(left), da(left), cv::NORM_INF), 4.0);
+  EXPECT_LT(cv::norm(d(right), db(right), cv::NORM_INF), 4.0);
 }
 
 TEST(FloatingTextures, LeavesTheBackgroundAndUnseenPixelsToTheBase) {
@@ -111,6 +147,9 @@ TEST(FloatingTextures, RejectsBadInputNamingIt) {
   in = good;
   in.alpha = NAN;
   EXPECT_NE(message(in, a).find("alpha"), std::string::npos);
+  in = good;
+  in.bands = 0;
+  EXPECT_NE(message(in, a).find("bands"), std::string::npos);
   EXPECT_NE(message(good, cv::Mat(kH, kW, CV_8U)).find("rendered view"), std::string::npos);
 }
 
