@@ -151,7 +151,15 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
   cv::Mat f0, f1;
   w0.convertTo(f0, CV_32FC3);
   w1.convertTo(f1, CV_32FC3);
-  const cv::Mat both = multiband(f0, f1, share, in.bands);
+  // At a source camera's own view (alpha 0 or 1) the blend is that photo, pixel for pixel: the
+  // bands would carry the other photo's brightness around the few pixels it alone sees. They
+  // count in full from a quarter of the way between the cameras.
+  const double banded = std::min(1.0, 4 * in.alpha * (1 - in.alpha));
+  cv::Mat both = multiband(f0, f1, share, in.bands);
+  if (banded < 1) {
+    const cv::Mat per_pixel = multiband(f0, f1, share, 1);
+    cv::addWeighted(both, banded, per_pixel, 1 - banded, 0, both);
+  }
 
   double shift = 0;
   for (int y = 0; y < roi.height; ++y) {

@@ -64,8 +64,7 @@ TEST(FloatingTextures, AlignsTwoShiftedRenderingsAtTheAlphaPosition) {
 
 TEST(FloatingTextures, AlphaZeroKeepsTheFrontRenderingUnmoved) {
   const cv::Mat a = scene(0), b = scene(12);
-  FloatInputs in = seam_inputs(a, b, 0.0);
-  in.bands = 1;  // per pixel: the bands would carry the side's brightness across the seam
+  const FloatInputs in = seam_inputs(a, b, 0.0);  // the front camera's own view: per pixel
   const FloatResult r = float_textures(in, pick(in));
   const cv::Rect left(0, 0, kW / 2, kH);  // the front photo's share: not warped at all
   EXPECT_TRUE(std::isinf(psnr(a(left), r.image(left))));
