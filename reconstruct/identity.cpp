@@ -37,7 +37,11 @@ std::optional<double> front_to_view_face_distance(const Reconstruction& r) {
   if (!landmarker || !describer || r.front.empty() || r.side.empty() || r.landmarks.empty())
     return std::nullopt;
   const double yaw = 45 * capture::photographed_side_sign(r.photo_rig);
-  ViewRenderer views(r, ViewOptions{});  // as `orthoface render` draws a view
+  // As `orthoface render` draws a view, but blended per pixel: the banded blend hides part of a
+  // wrong pair's misfit (the right pairs' largest distance rose 0.67 -> 0.68, docs/input_check.md).
+  ViewOptions per_pixel;
+  per_pixel.synthesis.blend_bands = 1;
+  ViewRenderer views(r, per_pixel);
   const cv::Mat view = views.image(yaw, 0);
   const cv::Rect2d front_box = face_box(r, r.photo_rig.front);
   const cv::Rect2d view_box = face_box(r, views.camera(yaw, 0));

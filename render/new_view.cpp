@@ -169,6 +169,7 @@ void SynthesisOptions::check() const {
     bad("mirror_view_from_deg must be in 0..180");
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
     bad("visibility_tolerance_mm must be in 0..100");
+  if (blend_bands < 1 || blend_bands > 12) bad("blend_bands must be in 1..12");
 }
 
 struct ViewSynthesizer::Impl {
@@ -697,6 +698,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
     in.alpha = float_alpha(cv3(to_view), cv3(to_front), cv3(to_side));
     if (mirror)  // the side never photographed: its reference is the mirror image's viewpoint
       in.alpha = std::max(in.alpha, float_alpha(cv3(to_view), cv3(to_front), cv3(to_mirror)));
+    in.bands = o.blend_bands;
     r.view.image = float_textures(in, r.view.image).image;
   }
   if (!o.source_weights) r.weights.release();

@@ -69,6 +69,9 @@ struct SynthesisOptions {
   // one photo shows once. Costs two flows per view (CPU) and draws every triangle with the
   // per-pixel test; off, the blend is the shader's alone.
   bool float_textures = true;
+  // With floating textures: the aligned photos are blended in this many Laplacian bands (1: per
+  // pixel), so a difference in brightness between them shows as no seam.
+  int blend_bands = 6;
   UnseenSide unseen = UnseenSide::MirrorView;
   double mirror_view_from_deg = 20;  // MirrorView: from this angle between view and front camera
   cv::Scalar background{0, 0, 0};    // BGR 0..255

@@ -386,6 +386,11 @@ TEST(NewView, BadInputsThrow) {
   o = {};
   o.weighted_power = 0;
   EXPECT_THROW(synth.render(s.rig.front, o), std::invalid_argument);
+  for (int bands : {0, 13}) {
+    o = {};
+    o.blend_bands = bands;
+    EXPECT_THROW(synth.render(s.rig.front, o), std::invalid_argument) << bands;
+  }
   EXPECT_THROW(synth.source_depth(2), std::invalid_argument);
   EXPECT_THROW(synth.set_photos(s.front, small), std::invalid_argument);
   EXPECT_NO_THROW(synth.render(s.rig.front));  // still usable
