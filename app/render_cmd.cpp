@@ -54,8 +54,8 @@ Command render_command() {
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
            {"no-float", false,
-            "blend the photos as projected, without aligning them by optical "
-            "flow first (floating textures)"},
+            "blend the photos as projected, pixel by pixel, without aligning them by "
+            "optical flow first (floating textures) or blending them band by band"},
            {"unseen", true,
             "SOURCE  the side the side camera never saw, mirrored about the face's mid-plane "
             "(landmarks.json): view (default: a view turned 20 deg or more toward it is drawn "
