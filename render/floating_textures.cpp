@@ -154,12 +154,10 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
   // At a source camera's own view (alpha 0 or 1) the blend is that photo, pixel for pixel: the
   // bands would carry the other photo's brightness around the few pixels it alone sees. They
   // count in full from a quarter of the way between the cameras.
-  const double banded = std::min(1.0, 4 * in.alpha * (1 - in.alpha));
-  cv::Mat both = multiband(f0, f1, share, in.bands);
-  if (banded < 1) {
-    const cv::Mat per_pixel = multiband(f0, f1, share, 1);
-    cv::addWeighted(both, banded, per_pixel, 1 - banded, 0, both);
-  }
+  const double banded = in.bands > 1 ? std::min(1.0, 4 * in.alpha * (1 - in.alpha)) : 0.0;
+  cv::Mat both = multiband(f0, f1, share, banded > 0 ? in.bands : 1);
+  if (banded > 0 && banded < 1)
+    cv::addWeighted(both, banded, multiband(f0, f1, share, 1), 1 - banded, 0, both);
 
   double shift = 0;
   for (int y = 0; y < roi.height; ++y) {

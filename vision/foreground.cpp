@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -43,22 +44,7 @@ std::vector<float> border_counts(const cv::Mat& bgr, double fraction, bool use_l
 std::vector<float> border_histogram(const cv::Mat& bgr, double fraction, bool use_left,
                                     bool use_right) {
   const std::vector<float> h = border_counts(bgr, fraction, use_left, use_right);
-  // Spread each count to its 26 neighbours: sensor noise moves colours across bin borders.
-  std::vector<float> s(h.size(), 0.f);
-  for (int b = 0; b < kBins; ++b)
-    for (int g = 0; g < kBins; ++g)
-      for (int r = 0; r < kBins; ++r) {
-        const float v = h[(b * kBins + g) * kBins + r];
-        if (v == 0) continue;
-        for (int db = -1; db <= 1; ++db)
-          for (int dg = -1; dg <= 1; ++dg)
-            for (int dr = -1; dr <= 1; ++dr) {
-              const int bb = b + db, gg = g + dg, rr = r + dr;
-              if (bb < 0 || gg < 0 || rr < 0 || bb >= kBins || gg >= kBins || rr >= kBins) continue;
-              const float wgt = (db == 0 && dg == 0 && dr == 0) ? 1.f : 0.25f;
-              s[(bb * kBins + gg) * kBins + rr] += wgt * v;
-            }
-      }
+  std::vector<float> s = spread_to_neighbours(h, 0.25f);
   double total = 0;
   for (float v : h) total += v;
   // Density relative to a uniform spread over all bins.
@@ -106,6 +92,28 @@ cv::Mat from_background(const cv::Mat& bgr, const cv::Mat& bg) {
 }
 
 }  // namespace
+
+std::vector<float> spread_to_neighbours(const std::vector<float>& counts, float neighbour_weight) {
+  if (counts.size() != size_t(kColourBins))
+    throw std::invalid_argument("spread_to_neighbours: the counts must have " +
+                                std::to_string(kColourBins) + " colour bins");
+  std::vector<float> s(counts.size(), 0.f);
+  for (int b = 0; b < kBins; ++b)
+    for (int g = 0; g < kBins; ++g)
+      for (int r = 0; r < kBins; ++r) {
+        const float v = counts[size_t((b * kBins + g) * kBins + r)];
+        if (v == 0) continue;
+        for (int db = -1; db <= 1; ++db)
+          for (int dg = -1; dg <= 1; ++dg)
+            for (int dr = -1; dr <= 1; ++dr) {
+              const int bb = b + db, gg = g + dg, rr = r + dr;
+              if (bb < 0 || gg < 0 || rr < 0 || bb >= kBins || gg >= kBins || rr >= kBins) continue;
+              const float w = (db == 0 && dg == 0 && dr == 0) ? 1.f : neighbour_weight;
+              s[size_t((bb * kBins + gg) * kBins + rr)] += w * v;
+            }
+      }
+  return s;
+}
 
 cv::Mat foreground_probability(const cv::Mat& bgr, const cv::Mat& background,
                                const SegmentOptions& options) {

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace orthoface::vision {
@@ -26,6 +28,11 @@ inline constexpr int kColourBins = kColourLevels * kColourLevels * kColourLevels
 inline int colour_bin(const cv::Vec3b& bgr) {
   return ((bgr[0] >> 4) * kColourLevels + (bgr[1] >> 4)) * kColourLevels + (bgr[2] >> 4);
 }
+
+// `counts` (kColourBins colour bins) with each bin's count kept and spread to its 26 neighbouring
+// bins times `neighbour_weight`: sensor noise moves colours across bin borders. Throws
+// std::invalid_argument when `counts` is not kColourBins long.
+std::vector<float> spread_to_neighbours(const std::vector<float>& counts, float neighbour_weight);
 
 // How many of the border model's 4096 colour bins (16 levels a channel) hold 95 % of the border
 // strips' pixels, after the same 5x5 smoothing: a curtain or a wall shows a handful (FRMDB's

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
@@ -61,6 +62,21 @@ constexpr int kSubPixelBits = 3;
 // drop_foreign_colours: the least share of the head core's pixels a colour (with its neighbouring
 // bins) must hold to be the head's.
 constexpr double kForeignShare = 0.002;
+
+// The cut's probability: its mask smoothed by a 5x5 Gaussian (sigma 1 px).
+void smooth_probability(SceneCut& cut) {
+  cut.mask.convertTo(cut.probability, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
+}
+
+// The outer outline of `mask`'s part that holds `seed`; empty when no part does.
+std::vector<cv::Point> outline_holding(const cv::Mat& mask, cv::Point seed) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  for (auto& contour : contours)
+    if (cv::pointPolygonTest(contour, cv::Point2f(seed), false) >= 0) return std::move(contour);
+  return {};
+}
 std::vector<cv::Point> on_colour_steps(const cv::Mat& bgr, const std::vector<cv::Point>& outline) {
   const int n = int(outline.size()), k = 3;
   std::vector<cv::Point2d> points(n), normals(n);
@@ -119,19 +135,16 @@ SceneCut grab_cut(const cv::Mat& bgr, const cv::Mat& trimap, const cv::Rect2d& r
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(k_px, k_px)));
   cv::morphologyEx(fg, fg, cv::MORPH_CLOSE,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(fg, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-  for (size_t i = 0; i < contours.size(); ++i) {
-    if (cv::pointPolygonTest(contours[i], cv::Point2f(seed), false) < 0) continue;
-    cut.mask = cv::Mat::zeros(bgr.size(), CV_8U);
-    const std::vector<cv::Point> outline = on_colour_steps(bgr, contours[i]);
-    cv::fillPoly(cut.mask, std::vector<std::vector<cv::Point>>{outline}, cv::Scalar(255),
-                 cv::LINE_8, kSubPixelBits);
-    cut.mask.convertTo(cut.probability, CV_32F, 1.0 / 255);
-    cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
+  const std::vector<cv::Point> held = outline_holding(fg, seed);
+  if (held.empty()) {
+    cut.probability = cv::Mat::zeros(bgr.size(), CV_32F);
     return cut;
   }
-  cut.probability = cv::Mat::zeros(bgr.size(), CV_32F);
+  cut.mask = cv::Mat::zeros(bgr.size(), CV_8U);
+  const std::vector<cv::Point> outline = on_colour_steps(bgr, held);
+  cv::fillPoly(cut.mask, std::vector<std::vector<cv::Point>>{outline}, cv::Scalar(255), cv::LINE_8,
+               kSubPixelBits);
+  smooth_probability(cut);
   return cut;
 }
 
@@ -157,9 +170,7 @@ void clip_to_symmetry(SceneCut& cut, double cx, int last_row, double slack_px) {
       clipped = true;
     }
   }
-  if (!clipped) return;
-  cut.mask.convertTo(cut.probability, CV_32F, 1.0 / 255);
-  cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
+  if (clipped) smooth_probability(cut);
 }
 
 // Scene objects that touch the head (a toy at the temple, a disc on the crown) join the cut
@@ -179,46 +190,25 @@ void drop_foreign_colours(const cv::Mat& bgr, const cv::Mat& trimap, int last_ro
       if (t[c] == cv::GC_FGD) core[size_t(colour_bin(p[c]))] += 1, ++n;
   }
   if (n < 100) return;
-  // A colour is the head's when its bin or a neighbouring one holds a share of the core.
-  std::vector<char> head(kColourBins, 0);
+  // A colour is the head's when its bin and the neighbouring ones hold a share of the core.
+  const std::vector<float> near_core = spread_to_neighbours(core, 1.f);
   const float min_count = float(kForeignShare * n);
-  for (int b = 0; b < kColourLevels; ++b)
-    for (int g = 0; g < kColourLevels; ++g)
-      for (int r = 0; r < kColourLevels; ++r) {
-        float sum = 0;
-        for (int db = -1; db <= 1; ++db)
-          for (int dg = -1; dg <= 1; ++dg)
-            for (int dr = -1; dr <= 1; ++dr) {
-              const int bb = b + db, gg = g + dg, rr = r + dr;
-              if (bb < 0 || gg < 0 || rr < 0 || bb >= kColourLevels || gg >= kColourLevels ||
-                  rr >= kColourLevels)
-                continue;
-              sum += core[size_t((bb * kColourLevels + gg) * kColourLevels + rr)];
-            }
-        head[size_t((b * kColourLevels + g) * kColourLevels + r)] = sum >= min_count;
-      }
   cv::Mat kept = cut.mask.clone();
   const int rows = std::clamp(last_row, 0, bgr.rows);
   for (int r = 0; r < rows; ++r) {
     const cv::Vec3b* p = bgr.ptr<cv::Vec3b>(r);
     uchar* m = kept.ptr<uchar>(r);
     for (int c = 0; c < bgr.cols; ++c)
-      if (m[c] && !head[size_t(colour_bin(p[c]))]) m[c] = 0;
+      if (m[c] && near_core[size_t(colour_bin(p[c]))] < min_count) m[c] = 0;
   }
   cv::morphologyEx(kept, kept, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
-  std::vector<std::vector<cv::Point>> contours;
-  cv::findContours(kept, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
-  for (const auto& contour : contours) {
-    if (cv::pointPolygonTest(contour, cv::Point2f(seed), false) < 0) continue;
-    cv::Mat part = cv::Mat::zeros(kept.size(), CV_8U);
-    cv::fillPoly(part, std::vector<std::vector<cv::Point>>{contour}, cv::Scalar(255));
-    part &= cut.mask;  // holes filled, nothing added beyond the cut
-    cut.mask = part;
-    cut.mask.convertTo(cut.probability, CV_32F, 1.0 / 255);
-    cv::GaussianBlur(cut.probability, cut.probability, cv::Size(5, 5), 1.0);
-    return;
-  }
+  const std::vector<cv::Point> held = outline_holding(kept, seed);
+  if (held.empty()) return;
+  cv::Mat part = cv::Mat::zeros(kept.size(), CV_8U);
+  cv::fillPoly(part, std::vector<std::vector<cv::Point>>{held}, cv::Scalar(255));
+  cut.mask = part & cut.mask;  // holes filled, nothing added beyond the cut
+  smooth_probability(cut);
 }
 
 }  // namespace

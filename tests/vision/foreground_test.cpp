@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -59,4 +60,23 @@ TEST(Foreground, TwoBlobsCountedCentralOneChosen) {
   EXPECT_EQ(m.at<uchar>(110, 150), 255);  // hole filled
   EXPECT_EQ(m.at<uchar>(110, 235), 0);
   EXPECT_NEAR(cv::countNonZero(m), M_PI * 40 * 40, 250);
+}
+
+// A colour's count stays in its bin and reaches each of its 26 neighbours (only those inside the
+// cube at a corner) times the weight, nothing further.
+TEST(Foreground, SpreadToNeighboursReachesOneBinEitherWay) {
+  std::vector<float> counts(size_t(ov::kColourBins), 0.f);
+  const cv::Vec3b grey(128, 128, 128), corner(0, 0, 0);
+  counts[size_t(ov::colour_bin(grey))] = 8;
+  counts[size_t(ov::colour_bin(corner))] = 4;
+  const std::vector<float> s = ov::spread_to_neighbours(counts, 0.25f);
+  EXPECT_FLOAT_EQ(s[size_t(ov::colour_bin(grey))], 8.f);
+  EXPECT_FLOAT_EQ(s[size_t(ov::colour_bin(cv::Vec3b(144, 112, 128)))],
+                  2.f);  // one bin off each way
+  EXPECT_FLOAT_EQ(s[size_t(ov::colour_bin(cv::Vec3b(160, 128, 128)))], 0.f);  // two bins off
+  EXPECT_FLOAT_EQ(s[size_t(ov::colour_bin(cv::Vec3b(16, 16, 16)))], 1.f);
+  double total = 0;
+  for (float v : s) total += v;
+  EXPECT_NEAR(total, 8 + 26 * 2 + 4 + 7 * 1, 1e-4);  // the corner has 7 neighbours
+  EXPECT_THROW(ov::spread_to_neighbours(std::vector<float>(10, 1.f), 1.f), std::invalid_argument);
 }
