@@ -107,6 +107,20 @@ TEST(FloatingTextures, ABrightnessStepBetweenThePhotosLeavesNoSeam) {
   EXPECT_LT(cv::norm(d(right), db(right), cv::NORM_INF), 4.0);
 }
 
+// An eye shut in one photo and open in the other: a dark disc in the front photo alone, where the
+// front photo's share is 1. No flow can match it, so none may move it: it stays as the front
+// photo shows it, not smeared toward whatever the flow found in the side photo.
+TEST(FloatingTextures, AFeatureInOnePhotoAloneStaysWhereThatPhotoHasIt) {
+  const cv::Mat b = scene(0);
+  cv::Mat a = b.clone();
+  cv::ellipse(a, cv::Point(48, 80), cv::Size(18, 7), 0, 0, 360, cv::Scalar(20, 15, 10), cv::FILLED,
+              cv::LINE_AA);
+  const FloatInputs in = seam_inputs(a, b, 0.5);
+  const FloatResult r = float_textures(in, pick(in));
+  const cv::Rect eye(24, 64, 48, 32);
+  EXPECT_GT(psnr(a(eye), r.image(eye)), 35.0);
+}
+
 TEST(FloatingTextures, LeavesTheBackgroundAndUnseenPixelsToTheBase) {
   const cv::Mat a = scene(0), b = scene(10);
   FloatInputs in = seam_inputs(a, b, 0.5);
