@@ -34,40 +34,6 @@ void settle(cv::Mat& flow) {
   }
 }
 
-// Keeps `flow` (x -> x + flow(x)) only where `back` (the flow the other way) returns to x: the
-// forward-backward check. Where the two photos show different things (an eye shut in one and
-// open in the other, a strand of hair in one alone) no correspondence exists and the flow is
-// noise; warping by it smears the feature. Full trust within 1 px of a round trip, none from 3 px;
-// past a flow of 4 px the allowance grows with it (a quarter of its length: DIS's round trip over
-// a 20 px move of a real eye misses by several pixels and the move is still right).
-void keep_consistent(cv::Mat& flow, const cv::Mat& back) {
-  cv::Mat map(flow.size(), CV_32FC2);
-  for (int y = 0; y < flow.rows; ++y) {
-    const auto* f = flow.ptr<cv::Vec2f>(y);
-    auto* m = map.ptr<cv::Vec2f>(y);
-    for (int x = 0; x < flow.cols; ++x) m[x] = cv::Vec2f(float(x) + f[x][0], float(y) + f[x][1]);
-  }
-  cv::Mat returned;
-  cv::remap(back, returned, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
-  cv::Mat trust(flow.size(), CV_32F);
-  for (int y = 0; y < flow.rows; ++y) {
-    const auto* f = flow.ptr<cv::Vec2f>(y);
-    const auto* r = returned.ptr<cv::Vec2f>(y);
-    auto* t = trust.ptr<float>(y);
-    for (int x = 0; x < flow.cols; ++x) {
-      const double miss = std::hypot(f[x][0] + r[x][0], f[x][1] + r[x][1]) /
-                          std::max(1.0, std::hypot(double(f[x][0]), double(f[x][1])) / 4);
-      t[x] = float(std::clamp((3.0 - miss) / 2.0, 0.0, 1.0));
-    }
-  }
-  cv::GaussianBlur(trust, trust, cv::Size(0, 0), 2.0);
-  for (int y = 0; y < flow.rows; ++y) {
-    auto* f = flow.ptr<cv::Vec2f>(y);
-    const auto* t = trust.ptr<float>(y);
-    for (int x = 0; x < flow.cols; ++x) f[x] *= t[x];
-  }
-}
-
 // `image` sampled at x + k * flow(x) (bilinear, edges repeated).
 cv::Mat warp(const cv::Mat& image, const cv::Mat& flow, double k) {
   cv::Mat map(flow.size(), CV_32FC2);
@@ -80,6 +46,31 @@ cv::Mat warp(const cv::Mat& image, const cv::Mat& flow, double k) {
   cv::Mat out;
   cv::remap(image, out, map, cv::noArray(), cv::INTER_LINEAR, cv::BORDER_REPLICATE);
   return out;
+}
+
+// Keeps `flow` (x -> x + flow(x)) only where `back` (the flow the other way) returns to x: the
+// forward-backward check. Where the two photos show different things (an eye shut in one and
+// open in the other, a strand of hair in one alone) no correspondence exists and the flow is
+// noise; warping by it smears the feature. Full trust within 1 px of a round trip, none from 3 px;
+// past a flow of 4 px the allowance grows with it (a quarter of its length: DIS's round trip over
+// a 20 px move of a real eye misses by several pixels and the move is still right).
+void keep_consistent(cv::Mat& flow, const cv::Mat& back) {
+  const cv::Mat returned = warp(back, flow, 1.0);  // back at x + flow(x)
+  cv::Mat trust(flow.size(), CV_32F);
+  for (int y = 0; y < flow.rows; ++y) {
+    const auto* f = flow.ptr<cv::Vec2f>(y);
+    const auto* r = returned.ptr<cv::Vec2f>(y);
+    auto* t = trust.ptr<float>(y);
+    for (int x = 0; x < flow.cols; ++x) {
+      const double miss = std::hypot(f[x][0] + r[x][0], f[x][1] + r[x][1]) /
+                          std::max(1.0, std::hypot(double(f[x][0]), double(f[x][1])) / 4);
+      t[x] = float(std::clamp((3.0 - miss) / 2.0, 0.0, 1.0));
+    }
+  }
+  cv::GaussianBlur(trust, trust, cv::Size(0, 0), 2.0);
+  cv::Mat trust2;
+  cv::merge(std::vector<cv::Mat>{trust, trust}, trust2);
+  flow = flow.mul(trust2);
 }
 
 // Burt & Adelson 1983 ("A Multiresolution Spline With Application to Image Mosaics", ACM TOG

@@ -107,8 +107,8 @@ TEST(FloatingTextures, ABrightnessStepBetweenThePhotosLeavesNoSeam) {
   EXPECT_LT(cv::norm(d(right), db(right), cv::NORM_INF), 4.0);
 }
 
-// An eye shut in one photo and open in the other: a dark disc in the front photo alone, where the
-// front photo's share is 1. No flow can match it, so none may move it: it stays as the front
+// An eye shut in one photo and open in the other: a dark ellipse in the front photo alone, where
+// the front photo's share is 1. No flow can match it, so none may move it: it stays as the front
 // photo shows it, not smeared toward whatever the flow found in the side photo.
 TEST(FloatingTextures, AFeatureInOnePhotoAloneStaysWhereThatPhotoHasIt) {
   const cv::Mat b = scene(0);
