@@ -82,6 +82,25 @@ int nose_tip_index(const std::vector<cv::Point2d>& c, double H) {
   return argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
 }
 
+// The curve with the bays above the nose tip cut out: a point of the stretch from the crown to
+// the tip is dropped when another point of that stretch at its row lies further forward by more
+// than 0.03 H. A face's front edge has one point a row there; a bay is a notch in the head's
+// blob (brown hair lost against a dark curtain at the hairline, FRMDB 001, where the nasion was
+// found 100 px inside the hair and the model's forehead dented). Below the tip the curve runs
+// back under the chin on purpose and is kept whole.
+std::vector<cv::Point2d> without_bays(const std::vector<cv::Point2d>& c, int tip, double H) {
+  double y0 = c[0].y, y1 = c[0].y;
+  for (int i = 0; i <= tip; ++i) y0 = std::min(y0, c[i].y), y1 = std::max(y1, c[i].y);
+  std::vector<double> front(size_t(std::lround(y1 - y0)) + 1, 1e300);
+  const auto row = [&](const cv::Point2d& p) { return size_t(std::lround(p.y - y0)); };
+  for (int i = 0; i <= tip; ++i) front[row(c[i])] = std::min(front[row(c[i])], c[i].x);
+  std::vector<cv::Point2d> out;
+  for (int i = 0; i <= tip; ++i)
+    if (c[i].x <= front[row(c[i])] + 0.03 * H) out.push_back(c[i]);
+  out.insert(out.end(), c.begin() + tip + 1, c.end());
+  return out;
+}
+
 // The first index below the tip where the curve heads back and keeps going 0.07 H within 0.15 H;
 // -1 if none. With `shallow_only` the run must reach its 0.07 H back in less height than it goes
 // back.
@@ -147,6 +166,7 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
     sp.warnings.push_back("side view: profile too short for landmarks");
     return;
   }
+  sp.curve = without_bays(c, nose_tip_index(c, H), H);
   const int n = int(c.size());
   const double conf = std::clamp(sp.confidence, 0.0, 1.0);
   const int tip = nose_tip_index(c, H);

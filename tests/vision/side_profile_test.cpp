@@ -94,6 +94,27 @@ TEST(SideProfile, NasionIsTheBendWhenTheHeadLeansForward) {
   EXPECT_NEAR(upright.features.at("nose_bridge").px.y, 110, 1.5);
 }
 
+// A notch in the head's blob at the hairline (FRMDB 001: brown hair lost against a dark
+// curtain): the front contour runs from the crown into a wedge that reaches 85 px back and down
+// to the nasion's row, comes out again and only then runs down the forehead. The nasion was the
+// wedge's far end (x 185); it is the bend on the face's own front edge (x about 102).
+TEST(SideProfile, ANotchAtTheHairlineIsNotTheNasion) {
+  std::vector<cv::Point> poly = profile_polygon();
+  // After {110, 40}: into the wedge and out of it, then {100, 90} down the forehead.
+  poly.insert(poly.begin() + 2, {{111, 44}, {180, 60}, {185, 106}, {113, 48}});
+  const ov::SideProfile sp = landmarks_of(poly);
+  ASSERT_EQ(sp.features.count("nose_bridge"), 1u);
+  EXPECT_LT(sp.features.at("nose_bridge").px.x, 110);
+  EXPECT_NEAR(sp.features.at("nose_bridge").px.y, 110, 6.0);
+  EXPECT_NEAR(sp.features.at("nose_tip").px.y, 130, 1.0);
+  // The profile the model is built from keeps no point of the wedge.
+  for (const cv::Point2d& p : sp.curve) {
+    if (p.y > 50 && p.y < 106) {
+      EXPECT_LT(p.x, 120) << "row " << p.y;
+    }
+  }
+}
+
 // A receding chin (FRMDB 020): below the lower lip the profile steps back a little (the
 // mentolabial fold), then runs down and back along the chin to the menton (row 229), then back
 // under the jaw. The chin's slope heads back 0.07 H within 0.15 H too, but down more than back;
