@@ -114,7 +114,8 @@ SideBlob side_blob(const cv::Mat& side, const cv::Mat& bg) {
 }
 
 SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera cam,
-                        double min_head_height_px, std::vector<std::string>& warn) {
+                        double min_head_height_px, double expected_nose_row,
+                        std::vector<std::string>& warn) {
   SideResult r;
   const cv::Mat &prob = blob.prob, &mask = blob.mask;
   const int blobs = blob.blobs;
@@ -139,6 +140,7 @@ SideResult observe_side(const cv::Mat& side, const SideBlob& blob, SideCamera ca
     cv::flip(side, im, 1), cv::flip(prob, pr, 1), cv::flip(mask, mk, 1);
   SideProfileOptions so;
   so.min_head_height_px = min_head_height_px;
+  so.expected_nose_row = expected_nose_row;
   r.profile = side_profile(im, pr, mk, so);
   if (!r.faces_left) {
     const double w1 = side.cols - 1;
@@ -157,6 +159,7 @@ struct FrontHint {
   bool front_cut = false;
   bool front_plate = false;  // the front was cut by its clean plate: no rule of the side's moves it
   double min_h = 0;
+  double nose_row = -1;  // the front face's nose tip (network point 30), side rows; < 0: no face
 };
 
 // Everything observe() learns from the side photo alone, and its profile once the front blob
@@ -184,10 +187,10 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   if (given == SideCamera::Auto && std::abs(w.face.turn) >= kClearSideTurn)
     w.camera = w.face.turn < 0 ? SideCamera::Left : SideCamera::Right;
   std::vector<std::string> warnings;
-  w.result = observe_side(side, w.blob, w.camera, min_h.get(), warnings);
   // The side photo's own border, measured while the front's work may still run.
   const int colours = border_colour_count(side);
   const FrontHint& hint = front.get();
+  w.result = observe_side(side, w.blob, w.camera, min_h.get(), hint.nose_row, warnings);
   // The side's scene is busy when its border is or when the border colours' blob leaves out the
   // subject's colours (skin-coloured walls, wood). With a plate the side is cut by difference,
   // and what its border says still tells the front (one room).
@@ -213,7 +216,7 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
                              "): the subject was cut out where its colours gather; a clean plate "
                              "(--side-background) does better");
       warnings.clear();
-      w.result = observe_side(side, w.blob, w.camera, hint.min_h, warnings);
+      w.result = observe_side(side, w.blob, w.camera, hint.min_h, hint.nose_row, warnings);
     }
   }
   for (auto& m : warnings) w.warnings.push_back(std::move(m));
@@ -457,6 +460,15 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
       hint.head = head_hint(front, head.mask, face_box(*front_face.found), row_scale);
     hint.front_plate = !bgf.empty();
     hint.min_h = min_h(head);
+    // The side profile's nose row comes from the network's face whichever detector places the
+    // front features: the profile must not depend on that choice.
+    std::optional<FaceLandmarks68> scale_face = front_face.found;
+    if (!scale_face && o.landmarker == FrontLandmarker::Filters) {
+      ObserveOptions any = o;
+      any.landmarker = FrontLandmarker::Consensus;
+      scale_face = find_front_face(front, any, search_area(head.mask)).found;
+    }
+    if (scale_face) hint.nose_row = scale_face->points[30].y / row_scale;
     hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it
     if (!min_h_set) min_h_promise.set_exception(std::current_exception());

@@ -82,6 +82,21 @@ int nose_tip_index(const std::vector<cv::Point2d>& c, double H) {
   return argmin_x(c, first_row_at_least(c, y0 + 0.35 * H), first_row_at_least(c, y0 + 0.85 * H));
 }
 
+// The landmarks' nose tip: near the row the front photo gives when the band there holds a point
+// that projects more than both its ends (the band's end itself would be a brow or lip cut off by
+// rows that are not shared after all); else nose_tip_index. The face band below the curve's top
+// fails where dark hair is lost against the background: the curve then starts at the hairline
+// (FRMDB 028, 034), and the band, from 0.35 head heights below it, put the tip on the lips.
+int landmark_nose_tip(const std::vector<cv::Point2d>& c, double H, double expected_row) {
+  if (expected_row >= 0) {
+    const int a = first_row_at_least(c, expected_row - 0.16 * H),
+              b = first_row_at_least(c, expected_row + 0.12 * H);
+    const int tip = argmin_x(c, a, b);
+    if (a < tip && tip < b && c[tip].x < c[a].x - 1 && c[tip].x < c[b].x - 1) return tip;
+  }
+  return nose_tip_index(c, H);
+}
+
 // The curve with the bays above the nose tip cut out: a point of the stretch from the crown to
 // the tip is dropped when another point of that stretch at its row lies further forward by more
 // than 0.03 H. A face's front edge has one point a row there; a bay is a notch in the head's
@@ -166,10 +181,10 @@ void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
     sp.warnings.push_back("side view: profile too short for landmarks");
     return;
   }
-  sp.curve = without_bays(c, nose_tip_index(c, H), H);
+  sp.curve = without_bays(c, landmark_nose_tip(c, H, sp.expected_nose_row), H);
   const int n = int(c.size());
   const double conf = std::clamp(sp.confidence, 0.0, 1.0);
-  const int tip = nose_tip_index(c, H);
+  const int tip = landmark_nose_tip(c, H, sp.expected_nose_row);
   sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
   // Nasion: the deepest point behind the chord from the brow (glabella, the most projecting
   // point of the band above) to the tip; then the most posterior point within a quarter of its

@@ -18,6 +18,8 @@ void SideProfileOptions::check() const {
     throw std::invalid_argument("SideProfileOptions: control_spacing_px must be in [3, 100]");
   if (!(min_head_height_px >= 0))
     throw std::invalid_argument("SideProfileOptions: min_head_height_px must be >= 0");
+  if (!std::isfinite(expected_nose_row))
+    throw std::invalid_argument("SideProfileOptions: expected_nose_row is not finite");
   fit.check();
 }
 
@@ -218,6 +220,7 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
     return sp;
   }
   sp.head_height_px = head_height_estimate(e, o.min_head_height_px);
+  sp.expected_nose_row = o.expected_nose_row;
   const int stop = std::min(e.bottom, int(e.top + 1.45 * sp.head_height_px));
   const std::vector<cv::Point2d> chain = front_chain(mask, stop);
   if (chain.size() < 40) {

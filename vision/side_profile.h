@@ -15,16 +15,21 @@ struct SideProfileOptions {
   double control_spacing_px = 5.0;  // arc length between the profile model's control points
   double min_head_height_px = 0.0;  // lower bound of the crown-to-chin height (e.g. the front
                                     // view's head width; 0 = from the blob alone)
-  ProfileFitOptions fit;            // the iterative fit; num_control/samples are set from length
-  void check() const;               // throws std::invalid_argument on out-of-range values
+  // The nose tip's row in the side photo as the front photo has it (the two photos' rows shared,
+  // seed 004 eq. 1; on FRMDB's 26 pairs the side's tip lies 0.01-0.10 head heights above it);
+  // < 0 unknown. The tip is then looked for near it first (SideProfile::expected_nose_row).
+  double expected_nose_row = -1.0;
+  ProfileFitOptions fit;  // the iterative fit; num_control/samples are set from length
+  void check() const;     // throws std::invalid_argument on out-of-range values
 };
 
 // The front half of a profile in a side image whose face looks toward the image LEFT (callers
 // mirror a right-facing image first). Index coordinates: pixel (c, r) has its centre at (c, r).
 struct SideProfile {
-  std::vector<cv::Point2d> curve;  // crown -> forehead -> nose -> lips -> chin -> throat, ~1 px
-  double confidence = 0.0;         // share of the curve backed by edges, times a shape check
-  double head_height_px = 0.0;     // estimated crown-to-chin height
+  std::vector<cv::Point2d> curve;   // crown -> forehead -> nose -> lips -> chin -> throat, ~1 px
+  double confidence = 0.0;          // share of the curve backed by edges, times a shape check
+  double head_height_px = 0.0;      // estimated crown-to-chin height
+  double expected_nose_row = -1.0;  // SideProfileOptions::expected_nose_row
   std::map<std::string, Feature2d> features;  // profile landmarks + ear (see vision/landmarks.h)
   std::vector<std::string> warnings;
 };
@@ -37,7 +42,9 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
                          const SideProfileOptions& options = {});
 
 // Profile landmarks (kProfileLandmarkNames + chin_bottom) of sp.curve, added to sp.features:
-// nose tip = most projecting point, nasion / subnasale = deepest concavities, lips and chin =
+// nose tip = most projecting point (within 0.16 head heights above and 0.12 below
+// sp.expected_nose_row when that holds a projecting point inside the band, else 0.35..0.85 head
+// heights below the curve's top), nasion / subnasale = deepest concavities, lips and chin =
 // alternating extrema of the projection, chin bottom = tangent at 45 deg under the chin,
 // forehead top = skin-to-hair colour change along the curve. Missing ones add a warning.
 void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);

@@ -115,6 +115,39 @@ TEST(SideProfile, ANotchAtTheHairlineIsNotTheNasion) {
   }
 }
 
+// Dark hair lost against a dark background (FRMDB 028, 034): the blob, and the curve, start at
+// the hairline (row 75), not the crown, so the face band 0.35..0.85 head heights below the top
+// (rows 145..245) holds the lips and not the nose tip (row 130). The front photo's nose row
+// finds it; a band without a point projecting past both its ends (rows not shared after all)
+// falls back to the face band.
+TEST(SideProfile, TheFrontsNoseRowFindsTheTipWhenTheHairIsLost) {
+  const std::vector<cv::Point> poly = {{104, 75},  {100, 90},  {102, 110}, {80, 130},  {96, 142},
+                                       {92, 160},  {98, 175},  {94, 195},  {120, 215}, {160, 218},
+                                       {165, 300}, {240, 300}, {245, 200}, {240, 75}};
+  ov::SideProfile sp = landmarks_of(poly);
+  ASSERT_EQ(sp.features.count("nose_tip"), 1u);
+  EXPECT_GT(sp.features.at("nose_tip").px.y, 150);  // the face band alone: on the lips
+  sp = ov::SideProfile{};
+  sp.curve = front_curve(poly);
+  sp.head_height_px = 200;
+  sp.confidence = 1.0;
+  sp.expected_nose_row = 125;
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  ASSERT_EQ(sp.features.count("nose_tip"), 1u);
+  EXPECT_NEAR(sp.features.at("nose_tip").px.y, 130, 1.0);
+  EXPECT_NEAR(sp.features.at("nose_bridge").px.y, 110, 6.0);
+  // A row above the curve (its band holds no point of it) falls back to the face band.
+  const cv::Point2d face_band_tip = landmarks_of(poly).features.at("nose_tip").px;
+  sp.features.clear();
+  sp.curve = front_curve(poly);
+  sp.expected_nose_row = 40;
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  EXPECT_LT(cv::norm(sp.features.at("nose_tip").px - face_band_tip), 1e-9);
+  ov::SideProfileOptions o;
+  o.expected_nose_row = std::nan("");
+  EXPECT_THROW(o.check(), std::invalid_argument);
+}
+
 // A receding chin (FRMDB 020): below the lower lip the profile steps back a little (the
 // mentolabial fold), then runs down and back along the chin to the menton (row 229), then back
 // under the jaw. The chin's slope heads back 0.07 H within 0.15 H too, but down more than back;
