@@ -73,6 +73,26 @@ void SilhouetteOptions::check() const {
   if (!(back_e > 0 && back_e <= 10)) bad("back_e must be in (0, 10]");
 }
 
+cv::Mat without_top_column(const cv::Mat& mask, int rows) {
+  if (!mask.empty() && mask.type() != CV_8UC1)
+    throw std::invalid_argument("top column: the mask is not 8-bit single-channel");
+  if (rows < 2) throw std::invalid_argument("top column: rows must be at least 2");
+  if (mask.empty() || rows > mask.rows) return mask.clone();
+  const int top = cv::countNonZero(mask.row(0));
+  if (top == 0) return mask.clone();
+  for (int r = 1; r < rows; ++r)
+    if (std::abs(cv::countNonZero(mask.row(r)) - top) > 0.1 * top) return mask.clone();
+  int x0 = mask.cols, x1 = -1;
+  for (int c = 0; c < mask.cols; ++c)
+    if (mask.at<uchar>(0, c)) x0 = std::min(x0, c), x1 = std::max(x1, c);
+  const int pad = int(std::ceil(0.1 * (x1 - x0 + 1)));
+  const int c0 = std::max(0, x0 - pad), c1 = std::min(mask.cols - 1, x1 + pad);
+  cv::Mat out = mask.clone();
+  for (int r = 0; r < mask.rows && cv::countNonZero(mask.row(r)) < 1.5 * top; ++r)
+    out.row(r).colRange(c0, c1 + 1).setTo(0);
+  return out;
+}
+
 Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
                                 const FaceObservation& obs, const SilhouetteOptions& o) {
   o.check();
@@ -108,6 +128,9 @@ Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
   }
   if (!obs.front_blob.empty()) out.front = grow(front, obs.front_blob, front_box, o);
   if (side_grown.valid()) out.side = side_grown.get();
+  // A column is told by keeping its width over half an eye distance.
+  out.front = without_top_column(out.front, std::max(2, int(0.5 * e)));
+  out.side = without_top_column(out.side, std::max(2, int(0.5 * e * side.rows / front.rows)));
   return out;
 }
 

@@ -32,4 +32,16 @@ Silhouettes subject_silhouettes(const cv::Mat& front, const cv::Mat& side,
                                 const FaceObservation& observation,
                                 const SilhouetteOptions& options = {});
 
+// `mask` (CV_8U, non-zero = subject) without a column standing on the head from the photo's top
+// border: a fold of the curtain that the cut took for subject (FRMDB 023's front: 83 px wide for
+// 40 rows and more, on a head 237 px wide) gives the head model a chimney. A column keeps its
+// width: when the subject's rows from the top border down `rows` rows stay within 10 % of the top
+// row's width, what lies within that width (widened by a tenth) is cleared from the top down to
+// the first row half as wide again; the crown's pixels beside the column stay. A crown cut by the
+// top border widens at once (026's side: 122 px at the border, 138 px 20 rows down) and is left
+// as it is, as is a mask that does not touch the top border or has fewer than `rows` rows.
+// subject_silhouettes applies it with `rows` half an eye distance. Throws std::invalid_argument
+// when the mask is not CV_8U or `rows` < 2.
+cv::Mat without_top_column(const cv::Mat& mask, int rows);
+
 }  // namespace orthoface::vision

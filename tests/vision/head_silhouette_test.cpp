@@ -120,5 +120,36 @@ TEST(SubjectSilhouettes, BadInputIsRefusedNamingIt) {
   EXPECT_THROW(subject_silhouettes(front.image, side.image, o, bad), std::invalid_argument);
 }
 
+// A head (an ellipse 200 px wide, top at row 60) with a curtain fold standing on it: a column 60
+// px wide from the top border down into the head's top (FRMDB 023's front). The column goes;
+// of the head only the crown under it (rows 60..74, before the head is 90 px wide) can go with
+// it; a crown cut by the top border (it widens at once) is left as it is.
+TEST(TopColumn, AColumnOnTheHeadGoesAndACutCrownStays) {
+  cv::Mat head(400, 400, CV_8U, cv::Scalar(0));
+  cv::ellipse(head, cv::Point(200, 200), {100, 140}, 0, 0, 360, cv::Scalar(255), cv::FILLED);
+  cv::Mat with_column = head.clone();
+  with_column(cv::Rect(150, 0, 60, 70)).setTo(255);
+  const cv::Mat cleaned = without_top_column(with_column, 30);
+  EXPECT_EQ(cv::countNonZero(cleaned.row(0)), 0);
+  EXPECT_EQ(cv::countNonZero(cleaned.rowRange(0, 55)), 0);
+  EXPECT_EQ(cv::countNonZero(cleaned.rowRange(76, 400) != head.rowRange(76, 400)), 0);
+  EXPECT_GT(cv::countNonZero(cleaned), 0.98 * cv::countNonZero(head));
+  EXPECT_GT(cv::countNonZero(cleaned.row(70).colRange(216, 400)), 15);  // beside the column
+  // A head whose crown the top border cuts: 200 px wide at row 0 and widening.
+  cv::Mat cut(300, 400, CV_8U, cv::Scalar(0));
+  cv::ellipse(cut, cv::Point(200, 120), {150, 180}, 0, 0, 360, cv::Scalar(255), cv::FILLED);
+  EXPECT_EQ(cv::countNonZero(without_top_column(cut, 30) != cut), 0);
+  // A subject off the top border, and a mask shorter than the rows asked for: as they are.
+  EXPECT_EQ(cv::countNonZero(without_top_column(head, 30) != head), 0);
+  EXPECT_EQ(cv::countNonZero(without_top_column(with_column.rowRange(0, 20), 30) !=
+                             with_column.rowRange(0, 20)),
+            0);
+  // Bad input.
+  EXPECT_THROW(without_top_column(cv::Mat(10, 10, CV_32F, cv::Scalar(1)), 5),
+               std::invalid_argument);
+  EXPECT_THROW(without_top_column(head, 1), std::invalid_argument);
+  EXPECT_TRUE(without_top_column(cv::Mat(), 5).empty());
+}
+
 }  // namespace
 }  // namespace orthoface::vision
