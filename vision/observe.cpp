@@ -159,7 +159,6 @@ struct FrontHint {
   bool front_cut = false;
   bool front_plate = false;  // the front was cut by its clean plate: no rule of the side's moves it
   double min_h = 0;
-  double nose_row = -1;  // the front face's nose tip (network point 30), side rows; < 0: no face
 };
 
 // Everything observe() learns from the side photo alone, and its profile once the front blob
@@ -176,7 +175,8 @@ struct SideWork {
   std::vector<std::string> warnings;
 };
 SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
-                   std::shared_future<double> min_h, std::shared_future<FrontHint> front) {
+                   std::shared_future<double> min_h, std::shared_future<double> nose_row,
+                   std::shared_future<FrontHint> front) {
   SideWork w;
   w.blob = side_blob(side, bg);
   w.face = find_face(side, kSideFaceCoarserLevels);
@@ -189,8 +189,8 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
   std::vector<std::string> warnings;
   // The side photo's own border, measured while the front's work may still run.
   const int colours = border_colour_count(side);
+  w.result = observe_side(side, w.blob, w.camera, min_h.get(), nose_row.get(), warnings);
   const FrontHint& hint = front.get();
-  w.result = observe_side(side, w.blob, w.camera, min_h.get(), hint.nose_row, warnings);
   // The side's scene is busy when its border is or when the border colours' blob leaves out the
   // subject's colours (skin-coloured walls, wood). With a plate the side is cut by difference,
   // and what its border says still tells the front (one room).
@@ -216,7 +216,7 @@ SideWork side_work(const cv::Mat& side, const cv::Mat& bg, SideCamera given,
                              "): the subject was cut out where its colours gather; a clean plate "
                              "(--side-background) does better");
       warnings.clear();
-      w.result = observe_side(side, w.blob, w.camera, hint.min_h, hint.nose_row, warnings);
+      w.result = observe_side(side, w.blob, w.camera, hint.min_h, nose_row.get(), warnings);
     }
   }
   for (auto& m : warnings) w.warnings.push_back(std::move(m));
@@ -428,16 +428,18 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   obs.side.width = side.cols, obs.side.height = side.rows;
   // The side photo's work (its segmentation, the face it shows, its profile) runs on a second
   // thread while this one segments the front and finds its face. The profile waits for the front
-  // blob only: its head width bounds the side view's head height from below (a head is about
-  // 1.25x as tall, crown to chin, as it is wide), which a side blob without its hair
-  // underestimates. A hood or collar widening the blob below the head does not count. Told
-  // where the front's face is, the side thread checks its blob against the front's head.
+  // blob, whose head width bounds the side view's head height from below (a head is about 1.25x
+  // as tall, crown to chin, as it is wide), which a side blob without its hair underestimates (a
+  // hood or collar widening the blob below the head does not count), and for the front face's
+  // nose row. Told where the front's face is, the side thread checks its blob against the
+  // front's head.
   const double row_scale = double(front.rows) / side.rows;
-  std::promise<double> min_h_promise;
+  std::promise<double> min_h_promise, nose_row_promise;
   std::promise<FrontHint> hint_promise;
   std::future<SideWork> side_task =
       std::async(std::launch::async, side_work, std::cref(side), std::cref(bgs), o.side_camera,
-                 min_h_promise.get_future().share(), hint_promise.get_future().share());
+                 min_h_promise.get_future().share(), nose_row_promise.get_future().share(),
+                 hint_promise.get_future().share());
   const auto min_h = [&](const FrontHead& h) {
     return h.mask.empty() ? 0.0
                           : kHeightPerWidth * head_width(row_extent(h.mask), true) / row_scale;
@@ -445,7 +447,7 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
   FrontHead head;
   FrontFace front_face;
   FrontHint hint;
-  bool min_h_set = false;
+  bool min_h_set = false, nose_row_set = false;
   try {
     head = segment_front(front, bgf);
     min_h_promise.set_value(min_h(head));
@@ -454,24 +456,27 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     bool searched_blob = !head.mask.empty();
     if (!front_face.found && bgf.empty() && searched_blob)  // a blob beside the head
       front_face = find_front_face(front, o), searched_blob = false;
+    // The side profile's nose row comes from the network's face whichever detector places the
+    // front features (the profile must not depend on that choice); the side's profile waits for
+    // it alone, not for the scene's cut below.
+    std::optional<FaceLandmarks68> row_face = front_face.found;
+    if (!row_face && o.landmarker == FrontLandmarker::Filters) {
+      ObserveOptions any = o;
+      any.landmarker = FrontLandmarker::Consensus;
+      row_face = find_front_face(front, any, search_area(head.mask)).found;
+    }
+    nose_row_promise.set_value(row_face ? row_face->points[30].y / row_scale : -1.0);
+    nose_row_set = true;
     if (bgf.empty() && front_face.found)
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
     else if (front_face.found)  // cut by its plate: the side learns where the head is all the same
       hint.head = head_hint(front, head.mask, face_box(*front_face.found), row_scale);
     hint.front_plate = !bgf.empty();
     hint.min_h = min_h(head);
-    // The side profile's nose row comes from the network's face whichever detector places the
-    // front features: the profile must not depend on that choice.
-    std::optional<FaceLandmarks68> scale_face = front_face.found;
-    if (!scale_face && o.landmarker == FrontLandmarker::Filters) {
-      ObserveOptions any = o;
-      any.landmarker = FrontLandmarker::Consensus;
-      scale_face = find_front_face(front, any, search_area(head.mask)).found;
-    }
-    if (scale_face) hint.nose_row = scale_face->points[30].y / row_scale;
     hint_promise.set_value(hint);
   } catch (...) {  // the side's thread must not wait for it
     if (!min_h_set) min_h_promise.set_exception(std::current_exception());
+    if (!nose_row_set) nose_row_promise.set_exception(std::current_exception());
     hint_promise.set_exception(std::current_exception());
     throw;
   }
