@@ -97,22 +97,24 @@ int landmark_nose_tip(const std::vector<cv::Point2d>& c, double H, double expect
   return nose_tip_index(c, H);
 }
 
-// The curve with the bays above the nose tip cut out: a point of the stretch from the crown to
-// the tip is dropped when another point of that stretch at its row lies further forward by more
-// than 0.03 H. A face's front edge has one point a row there; a bay is a notch in the head's
-// blob (brown hair lost against a dark curtain at the hairline, FRMDB 001, where the nasion was
-// found 100 px inside the hair and the model's forehead dented). Below the tip the curve runs
-// back under the chin on purpose and is kept whole.
-std::vector<cv::Point2d> without_bays(const std::vector<cv::Point2d>& c, int tip, double H) {
+// The curve with the bays above the nose tip (index `tip`) cut out, and the tip's index in it: a
+// point of the stretch from the crown to the tip is dropped when another point of that stretch at
+// its row lies further forward by more than 0.03 H. A face's front edge has one point a row
+// there; a bay is a notch in the head's blob (brown hair lost against a dark curtain at the
+// hairline, FRMDB 001, where the nasion was found 100 px inside the hair and the model's forehead
+// dented). Below the tip the curve runs back under the chin on purpose and is kept whole.
+std::vector<cv::Point2d> without_bays(const std::vector<cv::Point2d>& c, int& tip, double H) {
   double y0 = c[0].y, y1 = c[0].y;
   for (int i = 0; i <= tip; ++i) y0 = std::min(y0, c[i].y), y1 = std::max(y1, c[i].y);
   std::vector<double> front(size_t(std::lround(y1 - y0)) + 1, 1e300);
   const auto row = [&](const cv::Point2d& p) { return size_t(std::lround(p.y - y0)); };
   for (int i = 0; i <= tip; ++i) front[row(c[i])] = std::min(front[row(c[i])], c[i].x);
   std::vector<cv::Point2d> out;
-  for (int i = 0; i <= tip; ++i)
+  for (int i = 0; i < tip; ++i)
     if (c[i].x <= front[row(c[i])] + 0.03 * H) out.push_back(c[i]);
-  out.insert(out.end(), c.begin() + tip + 1, c.end());
+  const int kept_tip = int(out.size());
+  out.insert(out.end(), c.begin() + tip, c.end());
+  tip = kept_tip;
   return out;
 }
 
@@ -174,17 +176,17 @@ bool reads_as_face_profile(const std::vector<cv::Point2d>& c, double H) {
   return depth >= kFaceStepBack * H;
 }
 
-void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp) {
+void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp, double expected_nose_row) {
   const auto& c = sp.curve;
   const double H = sp.head_height_px;
   if (c.size() < 40 || H < 20) {
     sp.warnings.push_back("side view: profile too short for landmarks");
     return;
   }
-  sp.curve = without_bays(c, landmark_nose_tip(c, H, sp.expected_nose_row), H);
+  int tip = landmark_nose_tip(c, H, expected_nose_row);
+  sp.curve = without_bays(c, tip, H);
   const int n = int(c.size());
   const double conf = std::clamp(sp.confidence, 0.0, 1.0);
-  const int tip = landmark_nose_tip(c, H, sp.expected_nose_row);
   sp.features["nose_tip"] = make(c[tip], conf, "profile-extremum");
   // Nasion: the deepest point behind the chord from the brow (glabella, the most projecting
   // point of the band above) to the tip; then the most posterior point within a quarter of its

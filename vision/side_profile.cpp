@@ -220,7 +220,6 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
     return sp;
   }
   sp.head_height_px = head_height_estimate(e, o.min_head_height_px);
-  sp.expected_nose_row = o.expected_nose_row;
   const int stop = std::min(e.bottom, int(e.top + 1.45 * sp.head_height_px));
   const std::vector<cv::Point2d> chain = front_chain(mask, stop);
   if (chain.size() < 40) {
@@ -230,7 +229,8 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
   double support = 0;
   sp.curve = fitted_curve(chain, prob, o, &support);
   sp.confidence = support;
-  find_profile_landmarks(bgr, sp);  // on the smooth fitted curve: extrema and concavities
+  // On the smooth fitted curve: extrema and concavities.
+  find_profile_landmarks(bgr, sp, o.expected_nose_row);
   on_colour_step(bgr, sp);
   if (e.top == 0) sp.warnings.push_back("side view: head touches the top border (crown cut off)");
   if (e.left[std::clamp(int(e.top + 0.6 * sp.head_height_px), 0, mask.rows - 1)] == 0)

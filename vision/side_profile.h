@@ -17,7 +17,7 @@ struct SideProfileOptions {
                                     // view's head width; 0 = from the blob alone)
   // The nose tip's row in the side photo as the front photo has it (the two photos' rows shared,
   // seed 004 eq. 1; on FRMDB's 26 pairs the side's tip lies 0.01-0.10 head heights above it);
-  // < 0 unknown. The tip is then looked for near it first (SideProfile::expected_nose_row).
+  // < 0 unknown. The tip is then looked for near it first (find_profile_landmarks).
   double expected_nose_row = -1.0;
   ProfileFitOptions fit;  // the iterative fit; num_control/samples are set from length
   void check() const;     // throws std::invalid_argument on out-of-range values
@@ -26,10 +26,9 @@ struct SideProfileOptions {
 // The front half of a profile in a side image whose face looks toward the image LEFT (callers
 // mirror a right-facing image first). Index coordinates: pixel (c, r) has its centre at (c, r).
 struct SideProfile {
-  std::vector<cv::Point2d> curve;   // crown -> forehead -> nose -> lips -> chin -> throat, ~1 px
-  double confidence = 0.0;          // share of the curve backed by edges, times a shape check
-  double head_height_px = 0.0;      // estimated crown-to-chin height
-  double expected_nose_row = -1.0;  // SideProfileOptions::expected_nose_row
+  std::vector<cv::Point2d> curve;  // crown -> forehead -> nose -> lips -> chin -> throat, ~1 px
+  double confidence = 0.0;         // share of the curve backed by edges, times a shape check
+  double head_height_px = 0.0;     // estimated crown-to-chin height
   std::map<std::string, Feature2d> features;  // profile landmarks + ear (see vision/landmarks.h)
   std::vector<std::string> warnings;
 };
@@ -43,11 +42,13 @@ SideProfile side_profile(const cv::Mat& bgr, const cv::Mat& prob, const cv::Mat&
 
 // Profile landmarks (kProfileLandmarkNames + chin_bottom) of sp.curve, added to sp.features:
 // nose tip = most projecting point (within 0.16 head heights above and 0.12 below
-// sp.expected_nose_row when that holds a projecting point inside the band, else 0.35..0.85 head
+// `expected_nose_row` when that holds a projecting point inside the band, else 0.35..0.85 head
 // heights below the curve's top), nasion / subnasale = deepest concavities, lips and chin =
 // alternating extrema of the projection, chin bottom = tangent at 45 deg under the chin,
 // forehead top = skin-to-hair colour change along the curve. Missing ones add a warning.
-void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp);
+// The stretch above the tip loses its bays (points with another point of that stretch well in
+// front of them at their row: a notch in the blob), so sp.curve may come back shorter.
+void find_profile_landmarks(const cv::Mat& bgr, SideProfile& sp, double expected_nose_row = -1.0);
 
 // True when `curve` (a left-facing front profile, top to bottom, ~1 px steps) has a nose tip in
 // the face band of a head `head_height_px` tall, below it the long backward run under the chin,

@@ -131,8 +131,7 @@ TEST(SideProfile, TheFrontsNoseRowFindsTheTipWhenTheHairIsLost) {
   sp.curve = front_curve(poly);
   sp.head_height_px = 200;
   sp.confidence = 1.0;
-  sp.expected_nose_row = 125;
-  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp, 125);
   ASSERT_EQ(sp.features.count("nose_tip"), 1u);
   EXPECT_NEAR(sp.features.at("nose_tip").px.y, 130, 1.0);
   EXPECT_NEAR(sp.features.at("nose_bridge").px.y, 110, 6.0);
@@ -140,8 +139,7 @@ TEST(SideProfile, TheFrontsNoseRowFindsTheTipWhenTheHairIsLost) {
   const cv::Point2d face_band_tip = landmarks_of(poly).features.at("nose_tip").px;
   sp.features.clear();
   sp.curve = front_curve(poly);
-  sp.expected_nose_row = 40;
-  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp);
+  ov::find_profile_landmarks(cv::Mat(320, 320, CV_8UC3, cv::Scalar(60, 90, 140)), sp, 40);
   EXPECT_LT(cv::norm(sp.features.at("nose_tip").px - face_band_tip), 1e-9);
   ov::SideProfileOptions o;
   o.expected_nose_row = std::nan("");
