@@ -269,6 +269,9 @@ const FaceLandmarker68* shared_landmarker() {
   return net ? &*net : nullptr;
 }
 
+// Refinement stops once the points move less than this between two crops (mean, pixels).
+constexpr double kConvergedPx = 0.5;
+
 cv::Rect2d crop_from_points(const std::array<cv::Point2d, 68>& p) {
   double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
   for (const cv::Point2d& q : p)
@@ -293,13 +296,22 @@ FaceLandmarks68 FaceLandmarker68::detect_in(const cv::Mat& bgr, const cv::Rect2d
   out.crop = first_crop;
   out.points = in_crop(bgr, out.crop);
   out.movement_px = INFINITY;
+  return refine(bgr, out, iterations);
+}
+
+FaceLandmarks68 FaceLandmarker68::refine(const cv::Mat& bgr, FaceLandmarks68 out,
+                                         int iterations) const {
+  if (iterations < 0)
+    throw std::invalid_argument("face landmarks: refinement iterations must be >= 0, got " +
+                                std::to_string(iterations));
+  if (out.movement_px < kConvergedPx) return out;
   for (int i = 0; i < iterations; ++i) {
     const cv::Rect2d next = crop_from_points(out.points);
     const std::array<cv::Point2d, 68> p = in_crop(bgr, next);
     double moved = 0;
     for (int k = 0; k < 68; ++k) moved += cv::norm(p[k] - out.points[k]) / 68;
     out.points = p, out.crop = next, out.movement_px = moved;
-    if (moved < 0.5) break;
+    if (moved < kConvergedPx) break;
   }
   return out;
 }

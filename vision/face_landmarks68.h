@@ -47,6 +47,10 @@ class FaceLandmarker68 {
   // The same from a first guess of the face's square (e.g. from the head's silhouette).
   FaceLandmarks68 detect_in(const cv::Mat& bgr, const cv::Rect2d& first_crop,
                             int iterations = 6) const;
+  // detect_in's refinement continued from `from` (its points and last movement) for up to
+  // `iterations` more crops: detect_in(b, c, n) equals refine(b, detect_in(b, c, 0), n). Same
+  // errors as in_crop; std::invalid_argument when `iterations` is negative.
+  FaceLandmarks68 refine(const cv::Mat& bgr, FaceLandmarks68 from, int iterations) const;
 
  private:
   struct Net;

@@ -452,21 +452,25 @@ FaceObservation observe(const cv::Mat& front_in, const cv::Mat& side_in, const O
     head = segment_front(front, bgf);
     min_h_promise.set_value(min_h(head));
     min_h_set = true;
-    front_face = find_front_face(front, o, search_area(head.mask));
+    // The side profile's nose row comes from the network's first points on the front face (found
+    // whichever detector places the front features: the profile must not depend on that choice),
+    // handed over before they are refined: the side's profile waits for them alone, not for the
+    // refinement or the scene's cut below.
+    const auto give_nose_row = [&](const FaceLandmarks68& f) {
+      if (nose_row_set) return;
+      nose_row_promise.set_value(f.points[30].y / row_scale);
+      nose_row_set = true;
+    };
+    front_face = find_front_face(front, o, search_area(head.mask), give_nose_row);
     bool searched_blob = !head.mask.empty();
     if (!front_face.found && bgf.empty() && searched_blob)  // a blob beside the head
-      front_face = find_front_face(front, o), searched_blob = false;
-    // The side profile's nose row comes from the network's face whichever detector places the
-    // front features (the profile must not depend on that choice); the side's profile waits for
-    // it alone, not for the scene's cut below.
-    std::optional<FaceLandmarks68> row_face = front_face.found;
-    if (!row_face && o.landmarker == FrontLandmarker::Filters) {
+      front_face = find_front_face(front, o, {}, give_nose_row), searched_blob = false;
+    if (!nose_row_set && o.landmarker == FrontLandmarker::Filters) {
       ObserveOptions any = o;
       any.landmarker = FrontLandmarker::Consensus;
-      row_face = find_front_face(front, any, search_area(head.mask)).found;
+      find_front_face(front, any, search_area(head.mask), give_nose_row);
     }
-    nose_row_promise.set_value(row_face ? row_face->points[30].y / row_scale : -1.0);
-    nose_row_set = true;
+    if (!nose_row_set) nose_row_promise.set_value(-1.0), nose_row_set = true;
     if (bgf.empty() && front_face.found)
       cut_out_of_scene(front, o, row_scale, searched_blob, head, front_face, hint, obs.warnings);
     else if (front_face.found)  // cut by its plate: the side learns where the head is all the same

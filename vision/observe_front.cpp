@@ -271,7 +271,8 @@ FrontHead segment_front(const cv::Mat& front, const cv::Mat& bg) {
   return h;
 }
 
-FrontFace find_front_face(const cv::Mat& front, const ObserveOptions& o, const cv::Rect& within) {
+FrontFace find_front_face(const cv::Mat& front, const ObserveOptions& o, const cv::Rect& within,
+                          const std::function<void(const FaceLandmarks68&)>& first_pass) {
   if (front.empty() || front.type() != CV_8UC3)
     throw std::invalid_argument("front face: the front photo must be a non-empty 8-bit BGR image");
   FrontFace f;
@@ -281,8 +282,11 @@ FrontFace find_front_face(const cv::Mat& front, const ObserveOptions& o, const c
     // Four passes: against dlib's points on the 26 FRMDB fronts (13 points, fraction of the eye
     // distance) 0.080 after one, 0.054, 0.0503, 0.0498 after four; with three the real-photo
     // judge's mean face score at +-45 fell from 0.593 to 0.543.
-    if (const auto box = haar_face(front, o.haar_dir, false, within))
-      f.found = net->detect_in(front, cv::Rect2d(*box), 3);
+    if (const auto box = haar_face(front, o.haar_dir, false, within)) {
+      const FaceLandmarks68 first = net->detect_in(front, cv::Rect2d(*box), 0);
+      if (first_pass) first_pass(first);
+      f.found = net->refine(front, first, 3);
+    }
   } catch (const std::invalid_argument&) {  // no crop to refine: observe_front() tries its own
   }
   return f;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <optional>
 
 #include <opencv2/core.hpp>
@@ -27,11 +28,14 @@ FrontHead segment_front(const cv::Mat& front, const cv::Mat& background);
 struct FrontFace {
   std::optional<FaceLandmarks68> found;
 };
-// `within`: where to search (haar_face); empty for the whole photo. Throws
+// `within`: where to search (haar_face); empty for the whole photo. `first_pass`, when given, is
+// called with the network's first points before they are refined (observe() hands the side
+// profile its nose row from them, while the front's points are refined). Throws
 // std::invalid_argument when `front` is not a non-empty 8-bit BGR image, std::runtime_error when
 // the Haar cascade cannot be loaded.
 FrontFace find_front_face(const cv::Mat& front, const ObserveOptions& options,
-                          const cv::Rect& within = {});
+                          const cv::Rect& within = {},
+                          const std::function<void(const FaceLandmarks68&)>& first_pass = {});
 
 // Front half of observe(): boundary, centre line and features of `front` (8-bit BGR), using the
 // side profile's rows (index coordinates of the side image, scaled by `row_scale` = front

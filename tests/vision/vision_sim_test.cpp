@@ -387,6 +387,44 @@ TEST(Observe, FrontFaceIsFoundFromThePhotoAlone) {
   EXPECT_THROW(ov::find_front_face(cv::Mat(100, 100, CV_8UC1), o), std::invalid_argument);
 }
 
+// The front face's first points reach the caller before they are refined (observe() gives the
+// side profile its nose row from them): handed over once, and the refinement then continues
+// from exactly them, as detect_in's own loop would.
+TEST(Observe, FrontFaceHandsOverItsFirstPointsBeforeRefining) {
+  const sim::Capture& cap = capture(1);  // a sim face the cascade finds
+  const ov::FaceLandmarker68* net = ov::shared_landmarker();
+  if (!net) GTEST_SKIP() << "no landmark network weights";
+  ov::ObserveOptions o;
+  o.landmarker = ov::FrontLandmarker::Network;
+  std::vector<ov::FaceLandmarks68> handed;
+  const ov::FrontFace f = ov::find_front_face(
+      cap.front, o, {}, [&](const ov::FaceLandmarks68& first) { handed.push_back(first); });
+  ASSERT_TRUE(f.found);
+  ASSERT_EQ(handed.size(), 1u);
+  const auto box = ov::haar_face(cap.front, o.haar_dir, false);
+  ASSERT_TRUE(box);
+  const ov::FaceLandmarks68 first = net->detect_in(cap.front, cv::Rect2d(*box), 0);
+  const ov::FaceLandmarks68 whole = net->detect_in(cap.front, cv::Rect2d(*box), 3);
+  double moved = 0;
+  for (int k = 0; k < 68; ++k) {
+    EXPECT_EQ(handed[0].points[k], first.points[k]) << k;
+    EXPECT_EQ(f.found->points[k], whole.points[k]) << k;
+    moved = std::max(moved, cv::norm(whole.points[k] - first.points[k]));
+  }
+  EXPECT_GT(moved, 0.5);  // the refinement did move the points: the first ones are not the last
+  // A converged face is left as it is; a negative count is refused.
+  ov::FaceLandmarks68 still = whole;
+  still.movement_px = 0.1;
+  EXPECT_EQ(net->refine(cap.front, still, 3).crop, whole.crop);
+  EXPECT_THROW(net->refine(cap.front, first, -1), std::invalid_argument);
+  // Under the filters-only landmarker nothing is searched and nothing handed over.
+  o.landmarker = ov::FrontLandmarker::Filters;
+  EXPECT_FALSE(ov::find_front_face(cap.front, o, {}, [&](const ov::FaceLandmarks68& first) {
+                 handed.push_back(first);
+               }).found);
+  EXPECT_EQ(handed.size(), 1u);
+}
+
 TEST(Haar, FrontalFaceOnSimAndMissingCascades) {
   const std::string dir = "/usr/share/opencv4/haarcascades";
   if (!std::filesystem::exists(dir + "/haarcascade_frontalface_default.xml"))
