@@ -5,6 +5,7 @@
 #include <string>
 
 #include <Eigen/Core>
+#include <opencv2/core.hpp>
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #include <immintrin.h>
@@ -13,6 +14,10 @@
 
 namespace orthoface::vision {
 namespace {
+
+// Products of fewer multiplications than this run on the calling thread alone: below it,
+// waking a second thread costs more than it saves.
+constexpr double kParallelMultiplies = 2e6;
 
 using RowMajor = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
@@ -128,10 +133,20 @@ void pointwise_product(const float* x, const float* w, const float* bias, float*
   if (!x || !w || !bias || !y) throw std::invalid_argument("pointwise product: a null matrix");
   if (n < 1 || k < 1 || m < 1)
     throw std::invalid_argument("pointwise product: every size must be at least 1");
+  const auto rows = [&](int r0, int r1) {
+    const float* xr = x + size_t(r0) * k;
+    float* yr = y + size_t(r0) * m;
 #ifdef ORTHOFACE_X86_KERNEL
-  if (vector_units && m % 16 == 0 && has_vector_units()) return vectorised(x, w, bias, y, n, k, m);
+    if (vector_units && m % 16 == 0 && has_vector_units())
+      return vectorised(xr, w, bias, yr, r1 - r0, k, m);
 #endif
-  portable(x, w, bias, y, n, k, m);
+    portable(xr, w, bias, yr, r1 - r0, k, m);
+  };
+  // A large product's rows are shared among OpenCV's threads: each row is summed in the same
+  // order whichever thread takes it, so the result is the same as on one thread.
+  if (double(n) * k * m < kParallelMultiplies) return rows(0, n);
+  cv::parallel_for_(
+      cv::Range(0, n), [&](const cv::Range& r) { rows(r.start, r.end); }, 4);
 }
 
 void depthwise3x3(const float* x, int h, int w, int c, const float* filters, int stride, int pad_y,

@@ -7,7 +7,9 @@ namespace orthoface::vision {
 
 // y (n x m) = x (n x k) w (k x m) + bias (m), all row-major and dense. `vector_units` lets the
 // AVX2 + FMA kernel run when the CPU has them (m must then be a multiple of 16, else the
-// portable product runs). Throws std::invalid_argument on a null pointer or a size below 1.
+// portable product runs). A large product shares its rows among OpenCV's threads
+// (cv::parallel_for_), with the same result as on one. Throws std::invalid_argument on a null
+// pointer or a size below 1.
 void pointwise_product(const float* x, const float* w, const float* bias, float* y, int n, int k,
                        int m, bool vector_units = true);
 

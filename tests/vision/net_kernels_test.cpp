@@ -1,5 +1,6 @@
 #include "vision/net_kernels.h"
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -7,6 +8,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <opencv2/core.hpp>
 
 namespace orthoface::vision {
 namespace {
@@ -43,6 +45,27 @@ TEST(PointwiseProduct, BothKernelsGiveTheProductWrittenOut) {
         }
     }
   }
+}
+
+// A product large enough to be shared among threads (the network's first layer: 56 x 56 pixels,
+// 27 taps, 32 outputs) gives the very same numbers as on one thread.
+TEST(PointwiseProduct, SharedAmongThreadsTheProductIsTheSame) {
+  const int n = 56 * 56, k = 27, m = 32;
+  const std::vector<float> x = random_values(size_t(n) * k, 6), w = random_values(size_t(k) * m, 7),
+                           b = random_values(m, 8);
+  const int threads = cv::getNumThreads();
+  for (bool vector_units : {false, true}) {
+    std::vector<float> one(size_t(n) * m, NAN), many(size_t(n) * m, NAN);
+    cv::setNumThreads(1);
+    pointwise_product(x.data(), w.data(), b.data(), one.data(), n, k, m, vector_units);
+    cv::setNumThreads(std::max(2, threads));
+    pointwise_product(x.data(), w.data(), b.data(), many.data(), n, k, m, vector_units);
+    for (size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], many[i]) << i;
+    double want = b[5];  // one entry written out: row 3000, output 5
+    for (int c = 0; c < k; ++c) want += double(x[size_t(3000) * k + c]) * w[size_t(c) * m + 5];
+    EXPECT_NEAR(many[size_t(3000) * m + 5], want, 1e-4);
+  }
+  cv::setNumThreads(threads);
 }
 
 // Strides 1 and 2, with TensorFlow's 'same' padding (one pixel before) and without it (the
