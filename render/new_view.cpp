@@ -16,6 +16,7 @@
 #include "render/new_view_shaders.h"
 #include "render/source_textures.h"
 #include "render/triangle_classes.h"
+#include "render/unseen_fill.h"
 
 namespace orthoface::render {
 namespace {
@@ -570,7 +571,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
   if (!o.per_pixel_visibility && m.seen_stale) m.upload_seen();  // after set_rig
   // Attachments: the blend, the source weights, and for floating textures each photo alone.
   const bool floating = o.float_textures;
-  const int outputs = floating ? 4 : o.source_weights ? 2 : 1;
+  const int outputs = floating ? 4 : o.source_weights || o.fill_unseen ? 2 : 1;
   m.fb.ensure(camera.width, camera.height, {GL_RGBA8, GL_RGBA8, GL_RGBA8, GL_RGBA8});
   const GLenum bufs[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
                           GL_COLOR_ATTACHMENT3};
@@ -674,7 +675,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
     cv::Mat outs[2] = {r.weights, face};
     const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
     cv::mixChannels(&rgba, 1, outs, 2, from_to, 4);
-  } else if (o.source_weights) {
+  } else if (o.source_weights || o.fill_unseen) {
     r.weights = read(1, GL_RGB, CV_8UC3);  // (front, side, unseen)
   }
   if (floating && nf[1] > nf[0]) {
@@ -700,6 +701,11 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       in.alpha = std::max(in.alpha, float_alpha(cv3(to_view), cv3(to_front), cv3(to_mirror)));
     in.bands = o.blend_bands;
     r.view.image = float_textures(in, r.view.image).image;
+  }
+  if (o.fill_unseen && nf[1] > nf[0]) {
+    cv::Mat unseen;
+    cv::extractChannel(r.weights, unseen, 2);
+    fill_unseen(r.view.image, unseen, r.view.mask, m.match.fill);
   }
   if (!o.source_weights) r.weights.release();
   return r;

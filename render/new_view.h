@@ -64,6 +64,10 @@ struct SynthesisOptions {
                                        // is certain drawn by cheaper programs (the same pixels)
   double visibility_tolerance_mm = 1;  // per pixel: seen if within this of the depth map (+ slope)
   bool equalize = true;                // use the colour-equalised photos (see ColourMatch)
+  // Points no photo sees take the colours of the seen surface around them (render/
+  // unseen_fill.h) instead of ColourMatch::fill, which shows as a flat band along the side
+  // of the head a small turn brings into view.
+  bool fill_unseen = true;
   // Floating textures (render/floating_textures.h): the two photos' renderings of the view are
   // warped onto each other by optical flow before the blend, so a feature the mesh misplaces in
   // one photo shows once. Costs two flows per view (CPU) and draws every triangle with the
@@ -109,7 +113,8 @@ enum class ColourUpdate { Keep, Recompute };
 // mm) and the two photos are uploaded once, each source camera's depth map is rendered once, so
 // render() only draws. Photos are 8-bit BGR of their camera's size. A point a photo cannot see
 // (behind its depth map, facing away, outside the frame) never takes colour from it; points no
-// photo sees get ColourMatch::fill. Throws std::invalid_argument on a bad mesh, rig or photo
+// photo sees take the colours of the seen surface around them (SynthesisOptions::fill_unseen)
+// or ColourMatch::fill. Throws std::invalid_argument on a bad mesh, rig or photo
 // (naming it) and std::runtime_error when libOSMesa cannot create a context.
 class ViewSynthesizer {
  public:

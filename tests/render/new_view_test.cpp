@@ -268,18 +268,34 @@ TEST(NewView, PickSwitchesAtFortyFiveDegreesWithAFeatheredSeam) {
   }
 }
 
-TEST(NewView, SurfaceNoPhotoSeesTakesTheFillColour) {
+TEST(NewView, SurfaceNoPhotoSeesTakesTheFillColourOrItsSurroundings) {
   const Scene s = ellipsoid_scene();
   ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
   const CameraModel cam = view(s.rig.front, -135);  // from behind on the far side: no photo
   SynthesisOptions o;
   o.source_weights = true;
+  o.fill_unseen = false;
   const SynthesisResult r = synth.render(cam, o);
   const int c = cam.width / 2, row = cam.height / 2;
   ASSERT_EQ(r.view.mask.at<uchar>(row, c), 255);
   EXPECT_EQ(r.weights.at<cv::Vec3b>(row, c)[2], 255);
   const cv::Vec3b fill = synth.colour_match().fill;
   for (int k = 0; k < 3; ++k) EXPECT_NEAR(r.view.image.at<cv::Vec3b>(row, c)[k], fill[k], 1);
+  // Filled from the surroundings (the default), the unseen pixels take the seen surface's
+  // colours: each one nearer the mean of the seen pixels than the flat fill is.
+  o.fill_unseen = true;
+  const SynthesisResult f = synth.render(cam, o);
+  cv::Mat unseen, seen;
+  cv::extractChannel(f.weights, unseen, 2);
+  seen = (unseen < 26) & (f.view.mask > 0);
+  unseen = (unseen == 255) & (f.view.mask > 0);
+  ASSERT_GT(cv::countNonZero(seen), 100);
+  ASSERT_GT(cv::countNonZero(unseen), 100);
+  const cv::Scalar seen_mean = cv::mean(f.view.image, seen);
+  const cv::Scalar filled_mean = cv::mean(f.view.image, unseen);
+  const cv::Scalar flat(fill[0], fill[1], fill[2]);
+  EXPECT_LT(cv::norm(filled_mean - seen_mean), 0.5 * cv::norm(flat - seen_mean))
+      << "seen " << seen_mean << " filled " << filled_mean << " flat " << flat;
 }
 
 TEST(NewView, EqualisationRemovesABrightnessStepBetweenThePhotos) {
