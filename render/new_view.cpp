@@ -171,6 +171,8 @@ void SynthesisOptions::check() const {
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
     bad("visibility_tolerance_mm must be in 0..100");
   if (blend_bands < 1 || blend_bands > 12) bad("blend_bands must be in 1..12");
+  if (!(hull_max_stretch == 0 || (hull_max_stretch >= 1.5 && hull_max_stretch <= 100)))
+    bad("hull_max_stretch must be 0 or in 1.5..100");
 }
 
 struct ViewSynthesizer::Impl {
@@ -619,6 +621,15 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       glUniform1f(glGetUniformLocation(p, "ramp_mirror"),
                   float(facing_ramp(to_mirror, to_view, o)));
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
+      const bool persp = camera.projection == capture::Projection::Perspective;
+      const Eigen::Vector3f centre = camera.cam_from_head.inverse().translation().cast<float>();
+      glUniform1i(glGetUniformLocation(p, "view_persp"), persp ? 1 : 0);
+      glUniform3f(glGetUniformLocation(p, "view_centre"), centre.x(), centre.y(), centre.z());
+      glUniform3f(glGetUniformLocation(p, "view_toward"), float(to_view.x()), float(to_view.y()),
+                  float(to_view.z()));
+      const double s = o.hull_max_stretch;
+      glUniform2f(glGetUniformLocation(p, "stretch"), s > 0 ? float(1 / s) : -2.0f,
+                  s > 0 ? float(1 / (0.6 * s)) : -1.0f);
       glUniform1f(glGetUniformLocation(p, "tol_mm"), float(o.visibility_tolerance_mm));
       glUniform3f(glGetUniformLocation(p, "fill"), m.match.fill[2] / 255.0f,
                   m.match.fill[1] / 255.0f, m.match.fill[0] / 255.0f);

@@ -58,6 +58,11 @@ struct SynthesisOptions {
   // the front photo's grazing, streaked samples (sim heads' whole head at 15 / 30 deg: +0.4 /
   // +1.2 dB at 0.5, +1.1 / +1.3 at 0; real faces at 30 deg lose dlib's faces at 0).
   double hull_view_share = 0.5;
+  // The head hull (the vertices after set_face_vertices' count) takes no colour from a photo
+  // that would stretch it more than this (the view's facing cosine over the photo's; it fades
+  // out from 0.6 of it): grazing samples show as streaks down the neck and across the hair.
+  // 0: no limit.
+  double hull_max_stretch = 4;
   double weighted_power = 2;           // Weighted: exponent of the facing cosine
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
   bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion

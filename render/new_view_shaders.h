@@ -38,6 +38,10 @@ out vec2 v_z;
 out vec2 v_cos;
 out vec2 v_seen;
 out float v_face;
+uniform int view_persp;  // the new view's camera, as the sources'
+uniform vec3 view_centre;
+uniform vec3 view_toward;
+out float v_cos_view;  // the new view's facing cosine
 #ifdef MIRROR
 uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
 out vec3 v_q2;        // the side camera's view of the point's mirror image
@@ -57,6 +61,7 @@ void main() {
   float len = length(nrm);
   vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
   v_cos = vec2(facing(0, pos, n), facing(1, pos, n));
+  v_cos_view = dot(n, view_persp == 1 ? normalize(view_centre - pos) : view_toward);
   v_seen = seen.xy;
   v_face = seen.z;
 #ifdef MIRROR
@@ -81,6 +86,7 @@ in vec2 v_z;
 in vec2 v_cos;
 in vec2 v_seen;
 in float v_face;
+in float v_cos_view;
 #ifdef MIRROR
 in vec3 v_q2;
 in vec2 v_mirror;
@@ -102,6 +108,7 @@ uniform float view_bias_mirror;  // ... against the side photo's mirror image
 uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
 uniform float ramp_mirror;
 uniform float power;
+uniform vec2 stretch;  // hull: a photo's share fades out as its cosine / the view's falls over this
 uniform vec3 fill;
 layout(location = 0) out vec4 color;
 layout(location = 1) out vec4 weights;
@@ -129,11 +136,19 @@ float inside(vec2 uv, vec2 s) {
   return step(0.0, uv.x) * step(0.0, uv.y) * step(uv.x, s.x) * step(uv.y, s.y);
 }
 
-// Share of source i's view of this point: facing x inside the frame x not occluded.
+// On the head hull (hair, ears, neck) a photo that sees the surface far more obliquely than the
+// new view does would paint it as streaks: its share fades out (SynthesisOptions::
+// hull_max_stretch), leaving the other photo or the surroundings' colours. 1 on the face.
+float unstretched(float cosine) {
+  return mix(smoothstep(stretch.x, stretch.y, cosine / max(v_cos_view, 1e-3)), 1.0, v_face);
+}
+
+// Share of source i's view of this point: facing x inside the frame x not occluded x not
+// stretched.
 // `perspective` is a literal at each call, so the unused side folds away.
 float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cosine,
                    sampler2DShadow zmap, float vertex_seen) {
-  float a = smoothstep(0.0, ramp[i], cosine) * inside(uv, size[i]);
+  float a = smoothstep(0.0, ramp[i], cosine) * inside(uv, size[i]) * unstretched(cosine);
   if (perspective) a *= step(0.0, z);
 #if VISIBILITY == 2
   vec2 und = intr[i].zw + intr[i].xy * xy;
@@ -151,12 +166,15 @@ void main() {
   vec2 xy0 = image_xy(v_q0, PERSPECTIVE0 == 1), uv0 = image_uv(0, xy0, DISTORTED0 == 1);
   vec2 xy1 = image_xy(v_q1, PERSPECTIVE1 == 1), uv1 = image_uv(1, xy1, DISTORTED1 == 1);
 #if defined(ONLY_SOURCE) && ONLY_SOURCE == 0
-  // Triangles where the blend below is exactly the front photo (ViewSynthesizer sorts them out).
-  color = vec4(texture(photo0, uv0 / size[0]).rgb, 1.0);
-  weights = vec4(1.0, 0.0, 0.0, v_face);
+  // Triangles where the blend below is the front photo alone (ViewSynthesizer sorts them out),
+  // its share only cut where it would be stretched.
+  float a = unstretched(v_cos.x);
+  color = vec4(a * texture(photo0, uv0 / size[0]).rgb + (1.0 - a) * fill, 1.0);
+  weights = vec4(a, 0.0, 1.0 - a, v_face);
 #elif defined(ONLY_SOURCE) && ONLY_SOURCE == 1
-  color = vec4(texture(photo1, uv1 / size[1]).rgb, 1.0);
-  weights = vec4(0.0, 1.0, 0.0, v_face);
+  float a = unstretched(v_cos.y);
+  color = vec4(a * texture(photo1, uv1 / size[1]).rgb + (1.0 - a) * fill, 1.0);
+  weights = vec4(0.0, a, 1.0 - a, v_face);
 #else
   // Alpha = the photo's subject mask (ViewSynthesizer::set_photo_masks; 1 without one).
   vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);

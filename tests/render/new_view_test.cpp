@@ -112,6 +112,53 @@ TEST(NewView, HullSidesTakeTheSidePhotoSoonerThanTheFace) {
   }
 }
 
+// The head hull takes no colour from a photo that sees it far more obliquely than the new view
+// does (its samples would be streaks): the photos' shares only fall, somewhere to nothing; the
+// face keeps them; at the front camera's own viewpoint nothing changes.
+TEST(NewView, HullTakesNoColourAPhotoWouldStretch) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  SynthesisOptions o;
+  o.float_textures = false;
+  o.source_weights = true;
+  o.fill_unseen = false;
+  auto shares = [&](const CameraModel& cam, double max_stretch) {
+    o.hull_max_stretch = max_stretch;
+    return synth.render(cam, o);
+  };
+  // Turned 20 deg toward the side the side camera never saw: the front photo alone sees the hull's
+  // side there, edge-on.
+  const CameraModel cam = view(s.rig.front, -20);
+  synth.set_face_vertices(0);  // all hull
+  const SynthesisResult free = shares(cam, 0), limited = shares(cam, 4);
+  cv::Mat front_free, front_limited, diff;
+  cv::extractChannel(free.weights, front_free, 0);
+  cv::extractChannel(limited.weights, front_limited, 0);
+  cv::subtract(front_free, front_limited, diff, cv::noArray(), CV_32F);
+  const cv::Mat drawn = free.view.mask > 0;
+  double least, most;
+  cv::minMaxLoc(diff, &least, &most, nullptr, nullptr, drawn);
+  const int dropped = cv::countNonZero((diff > 100) & drawn);
+  std::printf(
+      "hull at -20 deg: the front photo's share falls on %d of %d pixels (at most by %.0f)\n",
+      dropped, cv::countNonZero(drawn), most);
+  EXPECT_GE(least, -1.0);  // it never grows
+  EXPECT_GT(most, 200.0);  // somewhere it falls to (nearly) nothing
+  EXPECT_GT(dropped, 1000);
+  EXPECT_LT(dropped, cv::countNonZero(drawn) / 4);
+  // The face is never cut.
+  synth.set_face_vertices(-1);
+  EXPECT_EQ(cv::norm(shares(cam, 0).view.image, shares(cam, 4).view.image, cv::NORM_INF), 0);
+  // The front camera's own view: the front photo stretches nothing.
+  synth.set_face_vertices(0);
+  const CameraModel front = view(s.rig.front, 0);
+  EXPECT_LE(cv::norm(shares(front, 0).view.image, shares(front, 4).view.image, cv::NORM_INF), 1);
+  for (double bad : {-1.0, 1.0, 1000.0, double(NAN)}) {
+    o.hull_max_stretch = bad;
+    EXPECT_THROW(o.check(), std::invalid_argument) << bad;
+  }
+}
+
 TEST(NewView, FloatingTexturesAlignOnlyTheFaceVertices) {
   // Photos of one ellipsoid, a deeper one as the mesh: the two photos disagree on it, and
   // floating textures move them.
