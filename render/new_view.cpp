@@ -380,6 +380,24 @@ GLuint ViewSynthesizer::Impl::view_program(Visibility visibility, bool weighted,
   return p;
 }
 
+namespace {
+
+// What the view shader's facing() needs of camera `index` (0 front, 1 side, 2 the new view):
+// its projection, centre and direction (head frame).
+void facing_uniforms(GLuint prog, int index, const capture::CameraModel& c) {
+  const std::string at = "[" + std::to_string(index) + "]";
+  auto loc = [&](const std::string& name) {
+    return glGetUniformLocation(prog, (name + at).c_str());
+  };
+  glUniform1i(loc("persp"), c.projection == capture::Projection::Perspective ? 1 : 0);
+  const Eigen::Vector3f centre = c.cam_from_head.inverse().translation().cast<float>();
+  const Eigen::Vector3f toward = (-capture::view_direction(c)).cast<float>();
+  glUniform3f(loc("centre"), centre.x(), centre.y(), centre.z());
+  glUniform3f(loc("toward"), toward.x(), toward.y(), toward.z());
+}
+
+}  // namespace
+
 // Uniforms that depend only on the rig and the source depth maps.
 void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
   glUseProgram(prog);
@@ -396,11 +414,7 @@ void ViewSynthesizer::Impl::source_uniforms(GLuint prog) {
       for (size_t j = 0; j < c.distortion.size() && j < 5; ++j) k[j] = c.distortion[j];
     glUniform4f(loc("dist" + at), float(k[0]), float(k[1]), float(k[2]), float(k[3]));
     glUniform1f(loc("k3" + at), float(k[4]));
-    glUniform1i(loc("persp" + at), c.projection == capture::Projection::Perspective ? 1 : 0);
-    const Eigen::Vector3f centre = c.cam_from_head.inverse().translation().cast<float>();
-    const Eigen::Vector3f toward = (-capture::view_direction(c)).cast<float>();
-    glUniform3f(loc("centre" + at), centre.x(), centre.y(), centre.z());
-    glUniform3f(loc("toward" + at), toward.x(), toward.y(), toward.z());
+    facing_uniforms(prog, i, c);
     glUniform2f(loc("zrange" + at), float(src[i].zrange[0]), float(src[i].zrange[1]));
   }
   const char* samplers[4] = {"photo0", "photo1", "zmap0", "zmap1"};
@@ -621,12 +635,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       glUniform1f(glGetUniformLocation(p, "ramp_mirror"),
                   float(facing_ramp(to_mirror, to_view, o)));
       glUniform1f(glGetUniformLocation(p, "power"), float(o.weighted_power));
-      const bool persp = camera.projection == capture::Projection::Perspective;
-      const Eigen::Vector3f centre = camera.cam_from_head.inverse().translation().cast<float>();
-      glUniform1i(glGetUniformLocation(p, "view_persp"), persp ? 1 : 0);
-      glUniform3f(glGetUniformLocation(p, "view_centre"), centre.x(), centre.y(), centre.z());
-      glUniform3f(glGetUniformLocation(p, "view_toward"), float(to_view.x()), float(to_view.y()),
-                  float(to_view.z()));
+      facing_uniforms(p, 2, camera);
       const double s = o.hull_max_stretch;
       glUniform2f(glGetUniformLocation(p, "stretch"), s > 0 ? float(1 / s) : -2.0f,
                   s > 0 ? float(1 / (0.6 * s)) : -1.0f);

@@ -29,18 +29,15 @@ layout(location = 1) in vec3 nrm;
 layout(location = 4) in vec3 seen;  // visible in source 0, 1; the face (1) or the hull (0)
 uniform mat4 clip_from_head;
 uniform mat4 src_from_head[2];
-uniform int persp[2];
-uniform vec3 centre[2];
-uniform vec3 toward[2];
+uniform int persp[3];  // the front (0) and side (1) cameras, and the new view (2)
+uniform vec3 centre[3];
+uniform vec3 toward[3];
 out vec3 v_q0;
 out vec3 v_q1;
 out vec2 v_z;
 out vec2 v_cos;
 out vec2 v_seen;
 out float v_face;
-uniform int view_persp;  // the new view's camera, as the sources'
-uniform vec3 view_centre;
-uniform vec3 view_toward;
 out float v_cos_view;  // the new view's facing cosine
 #ifdef MIRROR
 uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
@@ -61,7 +58,7 @@ void main() {
   float len = length(nrm);
   vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
   v_cos = vec2(facing(0, pos, n), facing(1, pos, n));
-  v_cos_view = dot(n, view_persp == 1 ? normalize(view_centre - pos) : view_toward);
+  v_cos_view = facing(2, pos, n);
   v_seen = seen.xy;
   v_face = seen.z;
 #ifdef MIRROR
@@ -108,7 +105,9 @@ uniform float view_bias_mirror;  // ... against the side photo's mirror image
 uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
 uniform float ramp_mirror;
 uniform float power;
-uniform vec2 stretch;  // hull: a photo's share fades out as its cosine / the view's falls over this
+// Hull: a photo's share fades out as its cosine over the view's falls from stretch.y to stretch.x;
+// (-2, -1) without a limit: every ratio a point facing the photo has (>= 0) passes.
+uniform vec2 stretch;
 uniform vec3 fill;
 layout(location = 0) out vec4 color;
 layout(location = 1) out vec4 weights;

@@ -14,11 +14,10 @@ namespace {
 constexpr int kSeenBelow = 26;  // unseen share x255 under which a pixel gives its colour
 constexpr int kMarginPx = 32;   // the seen surface looked at around the holes' bounding box
 
-void check(const cv::Mat& m, int type, const cv::Size& size, const char* what) {
-  if (m.type() != type || m.size() != size)
-    throw std::invalid_argument(std::string("unseen fill: ") + what + " must be " +
-                                (type == CV_8UC3 ? "8-bit BGR" : "8-bit single-channel") +
-                                " of the image's size");
+void check_plane(const cv::Mat& m, const cv::Size& size, const char* what) {
+  if (m.type() != CV_8U || m.size() != size)
+    throw std::invalid_argument(std::string("unseen fill: ") + what +
+                                " must be 8-bit single-channel of the image's size");
 }
 
 }  // namespace
@@ -26,8 +25,8 @@ void check(const cv::Mat& m, int type, const cv::Size& size, const char* what) {
 int fill_unseen(cv::Mat& image, const cv::Mat& unseen, const cv::Mat& mask, cv::Vec3b fill) {
   if (image.empty() || image.type() != CV_8UC3)
     throw std::invalid_argument("unseen fill: the image must be a non-empty 8-bit BGR image");
-  check(unseen, CV_8U, image.size(), "the unseen shares");
-  check(mask, CV_8U, image.size(), "the surface mask");
+  check_plane(unseen, image.size(), "the unseen shares");
+  check_plane(mask, image.size(), "the surface mask");
   const cv::Mat surface = mask > 0;
   const cv::Mat holes = (unseen > 0) & surface;
   if (cv::countNonZero(holes) == 0) return 0;
