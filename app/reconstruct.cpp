@@ -53,7 +53,7 @@ Command reconstruct_command() {
            side_background_flag(),
            {"check-identity", false,
             "also refuse a side photo of someone else: the front photo's face against the "
-            "model's 45-degree view (face recognition; about 0.4 s more; its weights: "
+            "model's views at 45-65 degrees (face recognition; about 0.9 s more; its weights: "
             "scripts/fetch-face-model.sh; docs/input_check.md)"},
            {"force", false,
             "model the pair even when the input check fails (the failures go to report.json's "

@@ -36,23 +36,32 @@ std::optional<double> front_to_view_face_distance(const Reconstruction& r) {
   const vision::FaceDescriber* describer = vision::shared_describer();
   if (!landmarker || !describer || r.front.empty() || r.side.empty() || r.landmarks.empty())
     return std::nullopt;
-  const double yaw = 45 * capture::photographed_side_sign(r.photo_rig);
-  // As `orthoface render` draws a view, but blended per pixel: the banded blend hides part of a
-  // wrong pair's misfit (the right pairs' largest distance rose 0.67 -> 0.68, docs/input_check.md).
-  ViewOptions per_pixel;
-  per_pixel.synthesis.blend_bands = 1;
-  ViewRenderer views(r, per_pixel);
-  const cv::Mat view = views.image(yaw, 0);
   const cv::Rect2d front_box = face_box(r, r.photo_rig.front);
-  const cv::Rect2d view_box = face_box(r, views.camera(yaw, 0));
-  if (front_box.empty() || view_box.empty()) return std::nullopt;
+  if (front_box.empty()) return std::nullopt;
   const auto front_face = landmarker->detect_in(r.front, front_box, 4);
-  const auto view_face = landmarker->detect_in(view, view_box, 4);
-  if (vision::face_descriptor_crop(front_face.points, r.front.size()).empty() ||
-      vision::face_descriptor_crop(view_face.points, view.size()).empty())
-    return std::nullopt;
-  return vision::descriptor_distance(describer->describe(r.front, front_face.points),
-                                     describer->describe(view, view_face.points));
+  if (vision::face_descriptor_crop(front_face.points, r.front.size()).empty()) return std::nullopt;
+  const vision::FaceDescriptor front = describer->describe(r.front, front_face.points);
+  // As `orthoface render` draws a view, but blended per pixel and aligned by the raw flow: the
+  // banded blend and the round-trip check on the flow both hide a wrong pair's misfit, where
+  // the raw flow drags the other person's features across the face (docs/input_check.md).
+  ViewOptions o;
+  o.synthesis.blend_bands = 1;
+  o.synthesis.float_round_trip = false;
+  ViewRenderer views(r, o);
+  double sum = 0;
+  int n = 0;
+  for (const double deg : kIdentityViewsDeg) {
+    const double yaw = deg * capture::photographed_side_sign(r.photo_rig);
+    const cv::Mat view = views.image(yaw, 0);
+    const cv::Rect2d box = face_box(r, views.camera(yaw, 0));
+    if (box.empty()) continue;
+    const auto face = landmarker->detect_in(view, box, 4);
+    if (vision::face_descriptor_crop(face.points, view.size()).empty()) continue;
+    sum += vision::descriptor_distance(front, describer->describe(view, face.points));
+    ++n;
+  }
+  if (n == 0) return std::nullopt;
+  return sum / n;
 }
 
 }  // namespace orthoface::reconstruct

@@ -238,8 +238,8 @@ Reconstruction from_photos(const cv::Mat& front, const cv::Mat& side_in,
     if (c.value > c.limit) {
       c.passed = false;
       c.problem = cv::format(
-          "the model's 45-degree view does not look like the front photo's person (face "
-          "descriptor distance %.2f, limit %.2f): the side photo may show someone else",
+          "the model's views at 45-65 degrees do not look like the front photo's person "
+          "(mean face descriptor distance %.2f, limit %.2f): the side photo may show someone else",
           c.value, c.limit);
       if (!options.force) throw InputRefused(c.name, c.problem);
       failures.push_back("input check " + c.name + " failed (--force): " + c.problem);

@@ -51,8 +51,8 @@ struct ReconstructOptions {
   bool check_input = true;
   bool force = false;
   // With check_input, also the same_person_face check after modelling: the front photo's face
-  // against the model's 45-degree view (reconstruct/identity.h; limit
-  // input_limits.max_face_distance). About 0.4 s a pair; off by default. Needs the
+  // against the model's views at 45-65 degrees (reconstruct/identity.h; limit
+  // input_limits.max_face_distance). About 0.9 s a pair; off by default. Needs the
   // face-recognition weights (scripts/fetch-face-model.sh): from_photos throws
   // std::runtime_error without them.
   bool check_identity = false;

@@ -156,7 +156,7 @@ FloatResult float_textures(const FloatInputs& in, const cv::Mat& base) {
   cv::Mat f01, f10;
   dis->calc(grey[0], grey[1], f01);
   dis->calc(grey[1], grey[0], f10);
-  {
+  if (in.round_trip) {
     const cv::Mat raw01 = f01.clone();
     keep_consistent(f01, f10);
     keep_consistent(f10, raw01);

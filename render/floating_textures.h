@@ -21,6 +21,11 @@ struct FloatInputs {
   cv::Vec3b fill{128, 128, 128};  // BGR where no photo sees the surface
   double alpha = 0;               // 0..1: the geometry's reference (see above)
   int bands = 6;  // the aligned images are blended in this many Laplacian bands (1: per pixel)
+  // Keep only flow that survives a round trip (forward then backward within a few pixels); where
+  // the photos show different things the rest has no correspondence behind it and would smear a
+  // feature. false warps by the raw flow, which makes two photos of different people visibly
+  // disagree (what reconstruct's identity check wants to see).
+  bool round_trip = true;
 };
 
 struct FloatResult {

@@ -720,6 +720,7 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
     if (mirror)  // the side never photographed: its reference is the mirror image's viewpoint
       in.alpha = std::max(in.alpha, float_alpha(cv3(to_view), cv3(to_front), cv3(to_mirror)));
     in.bands = o.blend_bands;
+    in.round_trip = o.float_round_trip;
     r.view.image = float_textures(in, r.view.image).image;
   }
   if (o.fill_unseen && nf[1] > nf[0]) {

@@ -81,6 +81,8 @@ struct SynthesisOptions {
   // With floating textures: the aligned photos are blended in this many Laplacian bands (1: per
   // pixel), so a difference in brightness between them shows as no seam.
   int blend_bands = 6;
+  // With floating textures: flow that fails a round trip is dropped (FloatInputs::round_trip).
+  bool float_round_trip = true;
   UnseenSide unseen = UnseenSide::MirrorView;
   double mirror_view_from_deg = 20;  // MirrorView: from this angle between view and front camera
   cv::Scalar background{0, 0, 0};    // BGR 0..255

@@ -66,10 +66,10 @@ struct PairCheckLimits {
   double max_height_residual = 0.15;  // height_residual
   double max_skin_delta_e = 28;       // skin_delta_e
   double max_colour_distance = 0.75;  // colour_distance
-  // The face descriptor distance between the front photo and the model's 45-degree view
-  // (reconstruct::front_to_view_face_distance; checked after modelling, when asked): above
-  // every right FRMDB pair (0.42-0.67).
-  double max_face_distance = 0.68;
+  // The mean face descriptor distance between the front photo and the model's views at 45-65
+  // degrees (reconstruct::front_to_view_face_distance; checked after modelling, when asked):
+  // above every right FRMDB pair (0.44-0.70, identity_bench).
+  double max_face_distance = 0.71;
   void check() const;  // throws std::invalid_argument on a non-positive limit
 };
 
