@@ -25,6 +25,19 @@ double chin_row(const Reconstruction& r) {
   return row;
 }
 
+// Row of the mouth's corners in the front photo; NaN without them.
+double mouth_row(const Reconstruction& r) {
+  double sum = 0;
+  int n = 0;
+  for (const char* name : {"mouth_left", "mouth_right"}) {
+    const auto it = r.landmarks.find(name);
+    if (it == r.landmarks.end()) continue;
+    sum += capture::project(r.photo_rig.front, it->second).y();
+    ++n;
+  }
+  return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
+}
+
 }  // namespace
 
 cv::Mat ViewScene::composite(const render::RenderResult& view) const {
@@ -92,6 +105,12 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
   cv::dilate(region > 0, scene.removed, ring);
   cv::Mat subject;
   if (!r.front_silhouette.empty()) cv::dilate(r.front_silhouette, subject, ring);
+  // From the mouth's row down the subject beside the head is clothes and hair, which the removed
+  // collar and hair fade into: filled from the background alone they showed as dark bays
+  // beside the turned neck.
+  const double mouth = mouth_row(r);
+  if (!subject.empty() && std::isfinite(mouth))
+    subject.rowRange(std::clamp(int(std::ceil(mouth)), 0, subject.rows), subject.rows).setTo(0);
   scene.background = render::head_removed(r.front, scene.removed, r.front_plate, subject);
   return scene;
 }

@@ -138,6 +138,43 @@ TEST_F(Folder, TheSceneLosesTheHeadAndYawZeroGivesThePhotoBack) {
   EXPECT_NEAR(half.fade_from_row, scene.fade_from_row / 2, 1);
 }
 
+// A collar standing beside the jaw (the subject below the mouth, outside the head) is removed
+// with the head's hair band and filled from the collar around it, not from the background: from
+// the background it showed as dark bays beside the turned neck.
+TEST_F(Folder, TheSceneFillsACollarBesideTheJawFromTheCollar) {
+  Reconstruction r = *rec_;
+  const ViewModel model = view_model(r, HeadExtent::Whole);
+  const auto synth = view_synthesizer(r, model);
+  const auto row_of = [&](const char* name) {
+    return capture::project(r.photo_rig.front, r.landmarks.at(name)).y();
+  };
+  const int mouth = int(std::ceil(row_of("mouth_left"))) + 2;
+  const int chin = int(row_of("chin_bottom"));
+  ASSERT_LT(mouth + 4, chin);
+  const cv::Mat head = synth->render(r.photo_rig.front).view.mask > 0;
+  const cv::Vec3b collar(250, 250, 250);
+  cv::Mat block = cv::Mat::zeros(r.front.size(), CV_8U);
+  block.rowRange(mouth, r.front.rows).setTo(255);
+  block &= ~head;
+  r.front = r.front.clone();
+  r.front.setTo(collar, block);
+  cv::Mat subject;  // a new buffer: assigning the expression would write into the fixture's
+  cv::bitwise_or(r.front_silhouette, block, subject);
+  r.front_silhouette = subject;
+  const cv::Vec3b background = r.front.at<cv::Vec3b>(2, 2);
+  const ViewScene scene = view_scene(r, *synth);
+  const cv::Mat filled = scene.removed & block;
+  filled.rowRange(chin, filled.rows).setTo(0);
+  ASSERT_GT(cv::countNonZero(filled), 50);
+  const cv::Scalar mean = cv::mean(scene.background, filled);
+  double to_collar = 0, to_background = 0;
+  for (int c = 0; c < 3; ++c) {
+    to_collar += std::abs(mean[c] - collar[c]);
+    to_background += std::abs(mean[c] - background[c]);
+  }
+  EXPECT_LT(to_collar, to_background) << mean;
+}
+
 // The folder on disk and the reconstruction in memory give the same view.
 TEST_F(Folder, AViewFromTheFolderEqualsTheViewFromMemory) {
   const Reconstruction back = read_reconstruction(dir_->string());
