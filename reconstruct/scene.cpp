@@ -38,6 +38,35 @@ double mouth_row(const Reconstruction& r) {
   return n ? sum / n : std::numeric_limits<double>::quiet_NaN();
 }
 
+// Where the subject (hair, clothes) rather than the background surrounds the removed region (long
+// hair round the face), `background`'s fill (from the background alone: dark curtain in the hair
+// beside a turned face) gives way to a fill from everything around, by the share of the subject
+// among the photo's own pixels nearby (normalised convolution of the two masks).
+void fill_inside_hair(const cv::Mat& photo, const cv::Mat& removed, const cv::Mat& silhouette,
+                      cv::Mat& background) {
+  const cv::Mat around = render::head_removed(photo, removed);
+  const cv::Mat known = removed == 0;
+  const double sigma = std::max(2.0, 0.03 * photo.cols);
+  cv::Mat k, s;
+  known.convertTo(k, CV_32F, 1.0 / 255);
+  cv::Mat(silhouette & known).convertTo(s, CV_32F, 1.0 / 255);
+  cv::GaussianBlur(k, k, cv::Size(0, 0), sigma);
+  cv::GaussianBlur(s, s, cv::Size(0, 0), sigma);
+  for (int y = 0; y < photo.rows; ++y) {
+    const auto* hole = removed.ptr<uchar>(y);
+    const auto* kk = k.ptr<float>(y);
+    const auto* ss = s.ptr<float>(y);
+    const auto* a = around.ptr<cv::Vec3b>(y);
+    auto* b = background.ptr<cv::Vec3b>(y);
+    for (int x = 0; x < photo.cols; ++x) {
+      if (!hole[x] || kk[x] < 1e-4f) continue;
+      const float w = std::clamp(ss[x] / kk[x], 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c)
+        b[x][c] = cv::saturate_cast<uchar>((1 - w) * b[x][c] + w * a[x][c]);
+    }
+  }
+}
+
 }  // namespace
 
 cv::Mat ViewScene::composite(const render::RenderResult& view) const {
@@ -112,6 +141,9 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
   if (!subject.empty() && std::isfinite(mouth))
     subject.rowRange(std::clamp(int(std::ceil(mouth)), 0, subject.rows), subject.rows).setTo(0);
   scene.background = render::head_removed(r.front, scene.removed, r.front_plate, subject);
+  if (r.front_plate.empty() && !subject.empty())
+    fill_inside_hair(r.front, scene.removed, r.front_silhouette, scene.background);
+  return scene;
   return scene;
 }
 

@@ -175,6 +175,37 @@ TEST_F(Folder, TheSceneFillsACollarBesideTheJawFromTheCollar) {
   EXPECT_LT(to_collar, to_background) << mean;
 }
 
+// Long hair round the face: the band of it removed beside the head is filled from the hair
+// around it, not from the background (dark curtain in the hair beside a turned face).
+TEST_F(Folder, TheSceneFillsHairBesideTheFaceFromTheHair) {
+  Reconstruction r = *rec_;
+  const ViewModel model = view_model(r, HeadExtent::Whole);
+  const auto synth = view_synthesizer(r, model);
+  const int mouth = int(capture::project(r.photo_rig.front, r.landmarks.at("mouth_left")).y()) - 2;
+  const cv::Mat head = synth->render(r.photo_rig.front).view.mask > 0;
+  cv::Mat near_head;  // hair as wide as a third of the photo round the head, down to the mouth
+  cv::dilate(head, near_head, cv::Mat::ones(1, r.front.cols / 3, CV_8U));
+  cv::Mat hair = near_head & ~head;
+  hair.rowRange(mouth, hair.rows).setTo(0);
+  const cv::Vec3b colour(30, 60, 120);
+  r.front = r.front.clone();
+  r.front.setTo(colour, hair);
+  cv::Mat subject;  // a new buffer: assigning the expression would write into the fixture's
+  cv::bitwise_or(r.front_silhouette, hair, subject);
+  r.front_silhouette = subject;
+  const cv::Vec3b background = r.front.at<cv::Vec3b>(2, 2);
+  const ViewScene scene = view_scene(r, *synth);
+  const cv::Mat filled = scene.removed & hair;
+  ASSERT_GT(cv::countNonZero(filled), 50);
+  const cv::Scalar mean = cv::mean(scene.background, filled);
+  double to_hair = 0, to_background = 0;
+  for (int c = 0; c < 3; ++c) {
+    to_hair += std::abs(mean[c] - colour[c]);
+    to_background += std::abs(mean[c] - background[c]);
+  }
+  EXPECT_LT(to_hair, to_background) << mean;
+}
+
 // The folder on disk and the reconstruction in memory give the same view.
 TEST_F(Folder, AViewFromTheFolderEqualsTheViewFromMemory) {
   const Reconstruction back = read_reconstruction(dir_->string());
