@@ -140,6 +140,21 @@ TEST(Pipeline, TheIdentityCheckRefusesAnotherPersonsSide) {
   EXPECT_FALSE(wrong.passed) << wrong.value;
 }
 
+// No value without something to compare: an empty reconstruction, or one without landmarks
+// (the faces are placed where the model's landmarks project).
+TEST(Pipeline, TheIdentityDistanceNeedsPhotosAndLandmarks) {
+  EXPECT_FALSE(front_to_view_face_distance(Reconstruction{}));
+  if (!vision::shared_describer())
+    GTEST_SKIP() << "no face-recognition weights (scripts/fetch-face-model.sh)";
+  const sim::Capture cap = sim::simulate_capture(sim::make_head(4), sim::RigOptions{});
+  ReconstructOptions o;
+  o.check_input = false;
+  Reconstruction r = from_photos(cap.front, cap.side, o);
+  EXPECT_TRUE(front_to_view_face_distance(r));
+  r.landmarks.clear();
+  EXPECT_FALSE(front_to_view_face_distance(r));
+}
+
 // The identity check views the face as adapted before smoothing (the smoothing hides two
 // people's misfit): with the smoothing forced on a sim pair, the check's distance is that of the
 // model made without smoothing, not that of the smoothed model it returns.
