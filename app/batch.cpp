@@ -34,12 +34,14 @@ namespace {
 constexpr int kTagDone = 1, kTagErrors = 2;
 
 const char* kUsage =
-    "usage: orthoface-batch pairs DIR -o OUT [--force]  (DIR/<name>/front.* + side.*\n"
-    "                                                 [+ rig.yaml] [+ front_background.*,\n"
-    "                                                 side_background.*: clean plates];\n"
-    "                                                 PNG, JPEG, BMP, TIFF, WebP,\n"
-    "                                                 PPM/PGM; a pair the input check refuses is\n"
-    "                                                 a failed item, with --force modelled)\n"
+    "usage: orthoface-batch pairs DIR -o OUT [--force] [--check-identity]\n"
+    "                                          (DIR/<name>/front.* + side.* [+ rig.yaml]\n"
+    "                                          [+ front_background.*, side_background.*: clean\n"
+    "                                          plates]; PNG, JPEG, BMP, TIFF, WebP, PPM/PGM; a\n"
+    "                                          pair the input check refuses is a failed item,\n"
+    "                                          with --force modelled; --check-identity also\n"
+    "                                          refuses a side photo of someone else, as\n"
+    "                                          `reconstruct --check-identity` does)\n"
     "       orthoface-batch similarity DIR -o OUT   (all .obj .ply .off .glb meshes in DIR)\n"
     "       run under mpirun -np N to split the work; rank 0 gathers and reports progress.\n"
     "       Every item is tried; OUT/batch_report.json gives each one's result and, for a failed\n"
@@ -150,7 +152,8 @@ std::string refused_by(const std::string& error) {
                                     : error.substr(prefix.size(), colon - prefix.size());
 }
 
-int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, int size) {
+int run_pairs(const fs::path& dir, const fs::path& out, bool force, bool check_identity, int rank,
+              int size) {
   std::vector<fs::path> items;  // every sub-folder: one without its photos is a failed item
   for (const auto& e : fs::directory_iterator(dir))
     if (e.is_directory() && !(fs::exists(out) && fs::equivalent(e.path(), out)))
@@ -166,6 +169,7 @@ int run_pairs(const fs::path& dir, const fs::path& out, bool force, int rank, in
     try {
       reconstruct::ReconstructOptions o;
       o.force = force;
+      o.check_identity = check_identity;
       if (fs::exists(items[i] / "rig.yaml"))
         o.rig = capture::read_rig((items[i] / "rig.yaml").string());
       // The photos, then the clean plates (the cameras' empty scenes) when the item has them,
@@ -374,17 +378,25 @@ int main(int argc, char** argv) {
   try {
     if (argc == 2 && (!std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h"))) {
       if (rank == 0) std::printf("%s", kUsage);
-    } else if ((argc != 5 && argc != 6) || std::strcmp(argv[3], "-o") != 0 ||
+    } else if (argc < 5 || std::strcmp(argv[3], "-o") != 0 ||
                (std::strcmp(argv[1], "pairs") && std::strcmp(argv[1], "similarity")) ||
-               (argc == 6 && (std::strcmp(argv[1], "pairs") || std::strcmp(argv[5], "--force")))) {
+               (argc > 5 && std::strcmp(argv[1], "pairs"))) {
       throw std::invalid_argument(std::string("bad arguments\n") + kUsage);
     } else {
-      const bool force = argc == 6;
+      bool force = false, check_identity = false;
+      for (int k = 5; k < argc; ++k) {
+        if (!std::strcmp(argv[k], "--force"))
+          force = true;
+        else if (!std::strcmp(argv[k], "--check-identity"))
+          check_identity = true;
+        else
+          throw std::invalid_argument(std::string("unknown option ") + argv[k] + "\n" + kUsage);
+      }
       const fs::path dir = argv[2], out = argv[4];
       if (!fs::is_directory(dir)) throw std::runtime_error(dir.string() + ": not a folder");
       if (rank == 0) fs::create_directories(out);
       MPI_Barrier(MPI_COMM_WORLD);
-      rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, force, rank, size)
+      rc = !std::strcmp(argv[1], "pairs") ? run_pairs(dir, out, force, check_identity, rank, size)
                                           : run_similarity_matrix(dir, out, rank, size);
     }
   } catch (const std::invalid_argument& e) {

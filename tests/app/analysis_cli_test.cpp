@@ -306,6 +306,34 @@ TEST(AnalysisCli, BatchPairsTakesJpegAndRecordsEachFailure) {
   EXPECT_EQ(run("'" + batch.string() + "'", "pairs pairs -o x --fast", w).code, 2);
 }
 
+// --check-identity runs reconstruct's identity check on every pair: its verdict is in the item's
+// report.json (or, without the face-recognition weights, the item fails saying so).
+TEST(AnalysisCli, BatchPairsChecksIdentityWhenAsked) {
+  const fs::path batch = fs::path(ORTHOFACE_BINARY).parent_path() / "orthoface-batch";
+  if (!fs::exists(batch)) GTEST_SKIP() << "orthoface-batch not built (no MPI)";
+  const fs::path w = testing::temp_dir("analysis_cli_batch_identity");
+  ASSERT_EQ(orthoface("simulate --subject 3 --out sim", w).code, 0);
+  fs::create_directories(w / "pairs/right");
+  fs::copy_file(w / "sim/front.png", w / "pairs/right/front.png");
+  fs::copy_file(w / "sim/side.png", w / "pairs/right/side.png");
+  const Result r =
+      run("'" + batch.string() + "'", "pairs pairs -o out --check-identity --force", w);
+  const auto j = nlohmann::json::parse(slurp(w / "out" / "batch_report.json"));
+  const auto& item = j["items"][0];
+  if (!item["ok"].get<bool>() &&
+      item["error"].get<std::string>().find("face-recognition weights") != std::string::npos)
+    GTEST_SKIP() << "no face-recognition weights (scripts/fetch-face-model.sh)";
+  EXPECT_EQ(r.code, 0) << r.err;
+  const auto report = nlohmann::json::parse(slurp(w / "out" / "right" / "report.json"));
+  ASSERT_TRUE(report["input_check"].contains("same_person_face")) << report["input_check"];
+  EXPECT_TRUE(report["input_check"]["same_person_face"]["passed"].get<bool>());
+  // Without the flag the check does not run.
+  ASSERT_EQ(run("'" + batch.string() + "'", "pairs pairs -o plain", w).code, 0);
+  const auto plain = nlohmann::json::parse(slurp(w / "plain" / "right" / "report.json"));
+  EXPECT_FALSE(plain["input_check"].contains("same_person_face"));
+  EXPECT_EQ(run("'" + batch.string() + "'", "similarity pairs -o x --check-identity", w).code, 2);
+}
+
 // A pair the input check refuses (photos swapped) is a failed item naming the check; with
 // --force it is modelled. An item's clean plates are used.
 TEST(AnalysisCli, BatchPairsRecordsTheInputCheckThatRefusedAPair) {
