@@ -144,7 +144,6 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
   if (r.front_plate.empty() && !subject.empty())
     fill_inside_hair(r.front, scene.removed, r.front_silhouette, scene.background);
   return scene;
-  return scene;
 }
 
 }  // namespace orthoface::reconstruct
