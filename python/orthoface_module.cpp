@@ -140,13 +140,23 @@ const reconstruct::Reconstruction& reconstruction_of(const Model& model) {
   return *model.reconstruction;
 }
 
-Model reconstruct_model(const py::object& front, const py::object& side, const py::object& rig) {
+Model reconstruct_model(const py::object& front, const py::object& side, const py::object& rig,
+                        const std::string& side_camera, bool force, bool check_identity) {
   reconstruct::ReconstructOptions options;  // `orthoface reconstruct`'s defaults
   if (!rig.is_none()) {
     const std::string path = path_of(rig, "rig");
     require_file(path, "rig");
     options.rig = capture::read_rig(path);
   }
+  if (side_camera == "left")
+    options.observe.side_camera = vision::SideCamera::Left;
+  else if (side_camera == "right")
+    options.observe.side_camera = vision::SideCamera::Right;
+  else if (side_camera != "auto")
+    throw std::invalid_argument("side_camera: '" + side_camera +
+                                "' is not one of auto, left, right");
+  options.force = force;
+  options.check_identity = check_identity;
   options.check();
   const cv::Mat f = image_from(front, "front"), s = image_from(side, "side");
   Model model;
@@ -338,14 +348,20 @@ PYBIND11_MODULE(orthoface, m) {
       });
 
   m.def("reconstruct", &reconstruct_model, py::arg("front"), py::arg("side"),
-        py::arg("rig") = py::none(),
-        "reconstruct(front, side, rig=None) -> Model\n\n"
+        py::arg("rig") = py::none(), py::arg("side_camera") = "auto", py::arg("force") = false,
+        py::arg("check_identity") = false,
+        "reconstruct(front, side, rig=None, side_camera='auto', force=False, "
+        "check_identity=False) -> Model\n\n"
         "A textured 3D face from a front and a side photo, as `orthoface reconstruct`. front, "
         "side: numpy uint8 H x W x 3 arrays in BGR order (as cv2.imread gives) or str / "
         "os.PathLike paths of image files. rig: None (the ideal rig, scale estimated from an "
         "average head; the report says so) or the path of a rig YAML (`orthoface simulate`'s "
-        "rig.yaml, `orthoface calibrate`) for true scale. A pair the input check refuses raises "
-        "ValueError('input check NAME: ...').");
+        "rig.yaml, `orthoface calibrate`) for true scale. side_camera: 'auto', 'left' or "
+        "'right' (`--side-camera`). A pair the input check refuses raises ValueError('input "
+        "check NAME: ...'); force=True models it anyway with the failures first in "
+        "report['warnings'] (`--force`). check_identity=True also compares the front photo's "
+        "face with the model's turned views (`--check-identity`; about 1 s more; RuntimeError "
+        "without the face-recognition weights).");
   m.def("load", &load_model, py::arg("dir"),
         "load(dir) -> Model\n\nReads a reconstruction folder (Model.save or `orthoface "
         "reconstruct --out`). Its mesh is welded where the texture atlas split it and has no "

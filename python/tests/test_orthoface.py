@@ -151,6 +151,27 @@ class OrthofaceTest(unittest.TestCase):
         cli_out = cli("similarity", "sim/truth.obj", "sim/truth.obj", cwd=self.work).stdout
         self.assertIn(f"shape_index {s['shape_index']:.6f}", cli_out)
 
+    def test_input_check_options(self):
+        front, side = self.sim / "front.png", self.sim / "side.png"
+        # Swapped photos: refused, or with force modelled and the failure first in the warnings.
+        self.assert_refused(ValueError, "input check", orthoface.reconstruct, side, front)
+        forced = orthoface.reconstruct(side, front, force=True)
+        self.assertTrue(forced.report["warnings"][0].startswith("input check"))
+        self.assert_refused(ValueError, "side_camera", orthoface.reconstruct, front, side,
+                            side_camera="sideways")
+        # The sim's side camera stands on the subject's left: the other side is refused.
+        self.assert_refused(ValueError, "input check side_camera", orthoface.reconstruct, front,
+                            side, side_camera="right")
+        try:
+            checked = orthoface.reconstruct(front, side, rig=self.sim / "rig.yaml",
+                                            side_camera="left", check_identity=True)
+        except RuntimeError as e:
+            if "face-recognition weights" in str(e):
+                self.skipTest("no face-recognition weights (scripts/fetch-face-model.sh)")
+            raise
+        self.assertTrue(checked.report["input_check"]["same_person_face"]["passed"])
+        self.assertNotIn("same_person_face", self.model.report["input_check"])
+
     def assert_refused(self, error, needle, fn, *args, **kwargs):
         with self.assertRaises(error) as c:
             fn(*args, **kwargs)
