@@ -71,11 +71,10 @@ int run_detect(int argc, char** argv) {
   for (const char* f : {"front", "side", "out"})
     if (!args.has(f)) throw std::invalid_argument(std::string("detect: --") + f + " is required");
   vision::ObserveOptions options;
-  if (args.has("side-camera")) {
-    const std::string s = args.get("side-camera");
-    if (s != "left" && s != "right")
-      throw std::invalid_argument("--side-camera: expected left or right, got '" + s + "'");
-    options.side_camera = s == "left" ? vision::SideCamera::Left : vision::SideCamera::Right;
+  try {
+    options.side_camera = vision::parse_side_camera(args.get("side-camera", "auto"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--side-camera: ") + e.what());
   }
   options.use_haar = args.has("haar");
   try {

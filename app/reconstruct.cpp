@@ -76,12 +76,11 @@ reconstruct::ReconstructOptions options_from(const Args& a) {
     require_file(a.get("rig"), "--rig");
     o.rig = capture::read_rig(a.get("rig"));
   }
-  const std::string side = a.get("side-camera", "auto");
-  if (side != "auto" && side != "left" && side != "right")
-    throw std::invalid_argument("--side-camera: expected left or right, got '" + side + "'");
-  o.observe.side_camera = side == "left"    ? vision::SideCamera::Left
-                          : side == "right" ? vision::SideCamera::Right
-                                            : vision::SideCamera::Auto;
+  try {
+    o.observe.side_camera = vision::parse_side_camera(a.get("side-camera", "auto"));
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("--side-camera: ") + e.what());
+  }
   try {
     o.observe.landmarker = vision::parse_front_landmarker(a.get("landmarker", "consensus"));
   } catch (const std::invalid_argument& e) {

@@ -29,13 +29,6 @@ using namespace orthoface;
 using json = nlohmann::json;
 namespace fs = std::filesystem;
 
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string x; std::getline(ss, x, ',');) out.push_back(x);
-  return out;
-}
-
 cv::Mat img(const fs::path& p) {
   cv::Mat m = cv::imread(p.string());
   if (m.empty()) throw std::runtime_error("unreadable " + p.string());
@@ -84,10 +77,10 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--people" && i + 1 < argc) {
-      only_people = split(argv[++i]);
+      only_people = bench::split_list(argv[++i]);
     } else if (a == "--offsets" && i + 1 < argc) {
       offsets.clear();
-      for (const std::string& x : split(argv[++i])) {
+      for (const std::string& x : bench::split_list(argv[++i])) {
         try {
           offsets.push_back(std::stoi(x));
         } catch (const std::exception&) {
@@ -131,7 +124,8 @@ int main(int argc, char** argv) {
     if (!only_people.empty() && !std::count(only_people.begin(), only_people.end(), people[i]))
       continue;
     for (const int k : offsets) {
-      const size_t j = (i + size_t(((k % int(people.size())) + people.size()))) % people.size();
+      const int n = int(people.size());  // the person k ids on, wrapping (k may be negative)
+      const size_t j = size_t(((int(i) + k) % n + n) % n);
       const bool same = j == i;
       json r = {{"front", people[i]}, {"side", people[j]}, {"same_person", same}};
       Verdict v;

@@ -23,7 +23,6 @@
 #include <functional>
 #include <iostream>
 #include <map>
-#include <sstream>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -68,13 +67,6 @@ json measures_json(const vision::PairMeasures& m) {
           {"colour_distance", io::number_or_null(m.colour_distance)},
           {"side_points", points(m.side.points)},
           {"front_points", points(m.front.points)}};
-}
-
-std::vector<std::string> split(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string x; std::getline(ss, x, ',');) out.push_back(x);
-  return out;
 }
 
 cv::Mat side_by_side(const cv::Mat& a, const cv::Mat& b) {
@@ -162,16 +154,18 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--people" && i + 1 < argc)
-      only_people = split(argv[++i]);
+      only_people = bench::split_list(argv[++i]);
     else if (a == "--side-camera" && i + 1 < argc) {
-      const std::string v = argv[++i];
-      side_camera = v == "left"    ? vision::SideCamera::Left
-                    : v == "right" ? vision::SideCamera::Right
-                                   : vision::SideCamera::Auto;
+      try {
+        side_camera = vision::parse_side_camera(argv[++i]);
+      } catch (const std::invalid_argument& e) {
+        std::cerr << "error: --side-camera: " << e.what() << "\n";
+        return 2;
+      }
     } else if (a == "--draw" && i + 1 < argc)
       draw_dir = argv[++i];
     else if (a == "--kinds" && i + 1 < argc)
-      only_kinds = split(argv[++i]);
+      only_kinds = bench::split_list(argv[++i]);
     else if (a.rfind("--", 0) != 0 && out_dir.empty())
       out_dir = a;
     else {

@@ -148,13 +148,11 @@ Model reconstruct_model(const py::object& front, const py::object& side, const p
     require_file(path, "rig");
     options.rig = capture::read_rig(path);
   }
-  if (side_camera == "left")
-    options.observe.side_camera = vision::SideCamera::Left;
-  else if (side_camera == "right")
-    options.observe.side_camera = vision::SideCamera::Right;
-  else if (side_camera != "auto")
-    throw std::invalid_argument("side_camera: '" + side_camera +
-                                "' is not one of auto, left, right");
+  try {
+    options.observe.side_camera = vision::parse_side_camera(side_camera);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("side_camera: ") + e.what());
+  }
   options.force = force;
   options.check_identity = check_identity;
   options.check();

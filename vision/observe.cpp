@@ -27,6 +27,13 @@
 
 namespace orthoface::vision {
 
+SideCamera parse_side_camera(const std::string& name) {
+  if (name == "auto") return SideCamera::Auto;
+  if (name == "left") return SideCamera::Left;
+  if (name == "right") return SideCamera::Right;
+  throw std::invalid_argument("side camera must be auto, left or right, got '" + name + "'");
+}
+
 FrontLandmarker parse_front_landmarker(const std::string& name) {
   if (name == "filters") return FrontLandmarker::Filters;
   if (name == "network") return FrontLandmarker::Network;

@@ -12,6 +12,9 @@ namespace orthoface::vision {
 // Where the side camera stands (DESIGN.md --side-camera): Left = at the subject's left (head
 // +x), so the face looks toward the image left; Auto = decided from the side image.
 enum class SideCamera { Auto, Left, Right };
+// "auto" / "left" / "right" (--side-camera); throws std::invalid_argument naming the text
+// otherwise.
+SideCamera parse_side_camera(const std::string& name);
 
 // Which detector gives the front view's eyes, brows, nose, mouth and chin.
 enum class FrontLandmarker {

@@ -143,6 +143,10 @@ TEST(FaceLandmarks68, LandmarkerNamesRoundTripAndBadOnesAreRefused) {
        {FrontLandmarker::Filters, FrontLandmarker::Network, FrontLandmarker::Consensus})
     EXPECT_EQ(parse_front_landmarker(front_landmarker_name(l)), l);
   EXPECT_THROW(parse_front_landmarker("dlib"), std::invalid_argument);
+  EXPECT_EQ(parse_side_camera("auto"), SideCamera::Auto);
+  EXPECT_EQ(parse_side_camera("left"), SideCamera::Left);
+  EXPECT_EQ(parse_side_camera("right"), SideCamera::Right);
+  EXPECT_THROW(parse_side_camera("Left"), std::invalid_argument);
 }
 
 }  // namespace
