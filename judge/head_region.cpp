@@ -9,42 +9,73 @@
 
 namespace orthoface::judge {
 
-cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box) {
+cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
+                    const std::vector<cv::Point2d>& face_points) {
   if (photo.empty() || photo.type() != CV_8UC3)
     throw std::invalid_argument("head_region: the photo must be 8-bit BGR and not empty");
   const cv::Rect frame(0, 0, photo.cols, photo.rows);
   if (face_box.width < 4 || face_box.height < 4 || (face_box & frame) != face_box)
     throw std::invalid_argument("head_region: the face box is not inside the photo");
+  for (const cv::Point2d& p : face_points)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y))
+      throw std::invalid_argument("head_region: a face point is not a finite number");
   const double k = std::min(1.0, 480.0 / photo.cols);
   cv::Mat small;
   cv::resize(photo, small, {}, k, k, cv::INTER_AREA);
+  const cv::Rect small_frame(0, 0, small.cols, small.rows);
   auto scaled = [&](double x, double y, double w, double h) {
     return cv::Rect(int(std::lround(x * k)), int(std::lround(y * k)), int(std::lround(w * k)),
                     int(std::lround(h * k))) &
-           cv::Rect(0, 0, small.cols, small.rows);
+           small_frame;
   };
   const double w = face_box.width, h = face_box.height;
-  const cv::Rect box = scaled(face_box.x - 0.9 * w, face_box.y - 1.1 * h, 2.8 * w, 2.7 * h);
-  const cv::Rect sure = scaled(face_box.x + 0.2 * w, face_box.y + 0.2 * h, 0.6 * w, 0.6 * h);
+  const double cx = face_box.x + 0.5 * w;
+  // Surely not head: anything farther than a head's reach from the face (1.4 face widths beside
+  // the box, 1.1 heights above it, 0.9 below) and the frame's top and side edges.
+  const cv::Rect reach = scaled(face_box.x - 1.4 * w, face_box.y - 1.1 * h, 3.8 * w, 3.0 * h);
   cv::Mat mask(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
-  mask(box).setTo(cv::GC_PR_BGD);
-  // The face box and the hair above it are probably head; its middle surely is.
-  mask(scaled(face_box.x - 0.1 * w, face_box.y - 0.5 * h, 1.2 * w, 1.5 * h) & box)
-      .setTo(cv::GC_PR_FGD);
-  mask(sure).setTo(cv::GC_FGD);
+  mask(reach).setTo(cv::GC_PR_BGD);
+  // Probably head: an ellipse around the face box and the hair above and behind it, wide
+  // enough that the hair's colours teach the head's model, not the background's.
+  cv::ellipse(mask,
+              cv::Point(int(std::lround(cx * k)), int(std::lround((face_box.y + 0.4 * h) * k))),
+              cv::Size(int(std::lround(1.15 * w * k)), int(std::lround(1.1 * h * k))), 0, 0, 360,
+              cv::GC_PR_FGD, cv::FILLED);
+  const int edge = std::max(2, small.cols / 100);
+  mask.rowRange(0, edge).setTo(cv::GC_BGD);
+  mask.colRange(0, edge).setTo(cv::GC_BGD);
+  mask.colRange(small.cols - edge, small.cols).setTo(cv::GC_BGD);
+  // Surely head: the face's inner features (brows, eyes, nose, mouth) when given, else the face
+  // box's middle.
+  cv::Point seed;
+  if (face_points.size() >= 3) {
+    std::vector<cv::Point> pts;
+    for (const cv::Point2d& p : face_points)
+      pts.emplace_back(int(std::lround(p.x * k)), int(std::lround(p.y * k)));
+    std::vector<cv::Point> hull;
+    cv::convexHull(pts, hull);
+    cv::fillConvexPoly(mask, hull, cv::GC_FGD);
+    const cv::Moments m = cv::moments(hull);
+    seed = m.m00 > 0 ? cv::Point(int(m.m10 / m.m00), int(m.m01 / m.m00)) : pts[0];
+  } else {
+    const cv::Rect sure = scaled(face_box.x + 0.2 * w, face_box.y + 0.2 * h, 0.6 * w, 0.6 * h);
+    mask(sure).setTo(cv::GC_FGD);
+    seed = {sure.x + sure.width / 2, sure.y + sure.height / 2};
+  }
+  seed.x = std::clamp(seed.x, 0, small.cols - 1), seed.y = std::clamp(seed.y, 0, small.rows - 1);
   cv::Mat bgd, fgd;
   // A fixed k-means seed (the thread's cv::theRNG()): the region depends on the photo alone and
   // the caller's random state is left as it was.
   cv::RNG& rng = cv::theRNG();
   const uint64 caller_state = rng.state;
   rng.state = 0xffffffff;  // cv::RNG's default state, a fresh thread's
-  cv::grabCut(small, mask, box, bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
+  cv::grabCut(small, mask, cv::Rect(), bgd, fgd, 5, cv::GC_INIT_WITH_MASK);
   rng.state = caller_state;
   cv::Mat head = (mask == cv::GC_FGD) | (mask == cv::GC_PR_FGD);
   // The part that holds the face.
   cv::Mat labels;
   cv::connectedComponents(head, labels, 8, CV_32S);
-  const int face_label = labels.at<int>(sure.y + sure.height / 2, sure.x + sure.width / 2);
+  const int face_label = labels.at<int>(seed.y, seed.x);
   head = face_label > 0 ? labels == face_label : cv::Mat::zeros(small.size(), CV_8U);
   cv::Mat full;
   cv::resize(head, full, photo.size(), 0, 0, cv::INTER_LINEAR);

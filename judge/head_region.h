@@ -3,16 +3,25 @@
 // head (hair included) cut out by OpenCV's GrabCut seeded by the judge's face box, and the
 // overlap of a view's head with it once the two are aligned by the eyes.
 
+#include <vector>
+
 #include <opencv2/core.hpp>
 
 namespace orthoface::judge {
 
-// The head region of `photo` (8-bit BGR): GrabCut (5 iterations, at most 480 px wide) inside a
-// box around `face_box` (0.9 face widths to each side, 1.1 face heights above, 0.6 below), the
-// face box's inner 60 % sure head, the rest of the box maybe; the connected part that holds
-// the face box's centre. CV_8U, 255 = head, the photo's size. Throws std::invalid_argument on an
-// empty or non-BGR photo or a face box outside it.
-cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box);
+// The head region of `photo` (8-bit BGR): GrabCut (5 iterations, at most 480 px wide) seeded
+// around `face_box`: surely head inside the hull of `face_points` (the face's inner features,
+// image pixels; the box's inner 60 % when none are given), probably head inside an ellipse
+// around the face and the hair above and behind it (1.15 face widths to each side of the box's
+// centre, 1.1 heights around 0.4 of the way down the box), probably background out to a head's
+// reach (1.4 widths beside the box, 1.1 heights above, 0.9 below), surely background beyond it
+// and along the frame's top and side edges; the connected part that holds the face. The wide
+// "probably head" keeps dark hair's colours out of the background's model, which a tight one
+// taught it (the hair then fell to the background). CV_8U, 255 = head, the photo's size. Throws
+// std::invalid_argument on an empty or non-BGR photo, a face box outside it or a face point
+// that is not finite.
+cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
+                    const std::vector<cv::Point2d>& face_points = {});
 
 // Intersection over union of `view_mask` (CV_8U, non-zero = the view's head) carried into the
 // real photo by `view_to_real` (2x3 similarity, CV_64F) and `real_mask` (CV_8U, the real

@@ -1,5 +1,8 @@
 #include "judge/head_region.h"
 
+#include <cmath>
+#include <vector>
+
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
@@ -47,6 +50,38 @@ TEST(HeadRegion, CutsTheHeadWithItsHairOutOfClutter) {
   EXPECT_EQ(rng.state, before);
 }
 
+// A head turned to the image's left on a dark cloth, as in a 45-degree portrait: dark-brown hair
+// wide behind the face, the face at the box's left so that the box's right third is background.
+cv::Mat turned_head_photo(cv::Mat& head, std::vector<cv::Point2d>& inner) {
+  cv::Mat photo(480, 640, CV_8UC3, cv::Scalar(55, 30, 35));  // dark blue-purple cloth
+  cv::Mat noise(photo.size(), CV_8UC3);
+  cv::RNG rng(3);
+  rng.fill(noise, cv::RNG::NORMAL, 0, 6);
+  head = cv::Mat::zeros(photo.size(), CV_8U);
+  cv::ellipse(head, {360, 170}, {110, 110}, 0, 0, 360, 255, cv::FILLED);  // hair and skull
+  cv::Mat face = cv::Mat::zeros(photo.size(), CV_8U);
+  cv::ellipse(face, {285, 245}, {55, 90}, 0, 0, 360, 255, cv::FILLED);
+  photo.setTo(cv::Scalar(30, 40, 60), head);  // dark brown
+  photo.setTo(cv::Scalar(120, 150, 200), face);
+  head |= face;
+  photo += noise;
+  for (int i = 0; i < 12; ++i)  // brows, eyes, nose and mouth inside the face
+    inner.emplace_back(255 + 5 * i, 200 + 8 * (i % 6));
+  return photo;
+}
+
+TEST(HeadRegion, TheFacePointsKeepTheBackgroundBesideATurnedFaceOut) {
+  cv::Mat truth;
+  std::vector<cv::Point2d> inner;
+  const cv::Mat photo = turned_head_photo(truth, inner);
+  const cv::Rect box(240, 170, 150, 150);  // its lower right is cloth
+  const cv::Mat region = head_region(photo, box, inner);
+  const cv::Mat eye = cv::Mat::eye(2, 3, CV_64F);
+  EXPECT_GT(head_iou(region, eye, truth, 335), 0.9);
+  EXPECT_EQ(region.at<uchar>(285, 355), 0);  // in the box's middle, but cloth
+  EXPECT_GT(region.at<uchar>(120, 420), 0);  // the hair behind the face
+}
+
 TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
   cv::Mat truth;
   const cv::Mat photo = head_photo(truth);
@@ -56,6 +91,8 @@ TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
   EXPECT_THROW(head_region(grey, {260, 170, 120, 130}), std::invalid_argument);
   EXPECT_THROW(head_region(photo, {600, 400, 120, 130}), std::invalid_argument);  // outside
   EXPECT_THROW(head_region(photo, {260, 170, 2, 2}), std::invalid_argument);      // too small
+  const std::vector<cv::Point2d> not_finite = {{300, 200}, {NAN, 210}, {320, 220}};
+  EXPECT_THROW(head_region(photo, {260, 170, 120, 130}, not_finite), std::invalid_argument);
 }
 
 TEST(HeadIou, OverlapAfterTheTransformAboveTheCut) {
