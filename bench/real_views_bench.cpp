@@ -109,11 +109,6 @@ const std::pair<const char*, std::vector<int>> kEyePoints[] = {
     {"eye_right_center", {36, 37, 38, 39, 40, 41}},
     {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
 
-// dlib's inner face points (brows, eyes, nose, mouth: 17..67), surely head in the real photo.
-std::vector<cv::Point2d> inner_points(const judge::FaceFound& face) {
-  return {face.points.begin() + 17, face.points.end()};
-}
-
 // The judge's eye points in the order of kEyePoints.
 std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
   std::vector<cv::Point2f> out;
@@ -327,7 +322,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       if (front_face) {
         const cv::Rect box = front_face->box & cv::Rect(0, 0, front.cols, front.rows);
         if (box.width >= 4 && box.height >= 4)
-          front_head = judge::head_region(front, box, inner_points(*front_face));
+          front_head = judge::head_region(front, box, &front_face->points);
       }
       cv::Mat real_head[2];
       for (int s = 0; s < 2; ++s) {
@@ -335,7 +330,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         const cv::Mat& photo = s == 0 ? real_near : real_far;
         const cv::Rect box = f ? f->box & cv::Rect(0, 0, photo.cols, photo.rows) : cv::Rect();
         if (box.width >= 4 && box.height >= 4)
-          real_head[s] = judge::head_region(photo, box, inner_points(*f));
+          real_head[s] = judge::head_region(photo, box, &f->points);
       }
       // Where the nose tip lies between the outer eye corners in each real photo (dlib's points
       // 30, 36, 45: 0 at the image-left corner, 1 at the other): the head's turn as the three

@@ -10,15 +10,16 @@
 namespace orthoface::judge {
 
 cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
-                    const std::vector<cv::Point2d>& face_points) {
+                    const Landmarks68* face_points) {
   if (photo.empty() || photo.type() != CV_8UC3)
     throw std::invalid_argument("head_region: the photo must be 8-bit BGR and not empty");
   const cv::Rect frame(0, 0, photo.cols, photo.rows);
   if (face_box.width < 4 || face_box.height < 4 || (face_box & frame) != face_box)
     throw std::invalid_argument("head_region: the face box is not inside the photo");
-  for (const cv::Point2d& p : face_points)
-    if (!std::isfinite(p.x) || !std::isfinite(p.y))
-      throw std::invalid_argument("head_region: a face point is not a finite number");
+  if (face_points)
+    for (const cv::Point2d& p : *face_points)
+      if (!std::isfinite(p.x) || !std::isfinite(p.y))
+        throw std::invalid_argument("head_region: a face point is not a finite number");
   const double k = std::min(1.0, 480.0 / photo.cols);
   cv::Mat small;
   cv::resize(photo, small, {}, k, k, cv::INTER_AREA);
@@ -35,12 +36,32 @@ cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
   const cv::Rect reach = scaled(face_box.x - 1.4 * w, face_box.y - 1.1 * h, 3.8 * w, 3.0 * h);
   cv::Mat mask(small.size(), CV_8U, cv::Scalar(cv::GC_BGD));
   mask(reach).setTo(cv::GC_PR_BGD);
-  // Probably head: an ellipse around the face box and the hair above and behind it, wide
-  // enough that the hair's colours teach the head's model, not the background's.
-  cv::ellipse(mask,
-              cv::Point(int(std::lround(cx * k)), int(std::lround((face_box.y + 0.4 * h) * k))),
-              cv::Size(int(std::lround(1.15 * w * k)), int(std::lround(1.1 * h * k))), 0, 0, 360,
-              cv::GC_PR_FGD, cv::FILLED);
+  // Probably head: an ellipse round the face and the hair above and behind it, wide enough
+  // that the hair's colours teach the head's model, not the background's. With dlib's points
+  // it is set by the face and its turn (the nose tip's place between the outer eye corners):
+  // the back of a turned head reaches about 1.3 eye distances behind the jaw, its nose side
+  // little beyond the nose tip; the crown 0.8 brow-to-chin heights above the brows.
+  cv::Point2d centre(cx, face_box.y + 0.4 * h), axes(1.15 * w, 1.1 * h);
+  if (face_points) {
+    const Landmarks68& p = *face_points;
+    double x0 = p[0].x, x1 = p[0].x, brow = p[17].y;
+    for (const cv::Point2d& q : p) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x);
+    for (int i = 17; i < 27; ++i) brow = std::min(brow, p[size_t(i)].y);
+    const double e = std::max(1.0, std::abs(p[45].x - p[36].x));
+    const double s = (p[30].x - p[36].x) / (p[45].x - p[36].x == 0 ? 1.0 : p[45].x - p[36].x);
+    const double f = std::clamp(std::abs(s - 0.5) / 0.4, 0.0, 1.0);
+    const bool nose_right = (s > 0.5) == (p[45].x > p[36].x);
+    const double near = e * (0.35 * (1 - f) + 0.15 * f), back = e * (0.35 * (1 - f) + 1.3 * f);
+    const double left = x0 - (nose_right ? back : near), right = x1 + (nose_right ? near : back);
+    const double tall = std::max(1.0, p[8].y - brow), top = brow - 0.8 * tall,
+                 bottom = p[8].y + 0.3 * tall;
+    centre = {0.5 * (left + right), 0.5 * (top + bottom)};
+    axes = {0.5 * (right - left), 0.5 * (bottom - top)};
+  }
+  cv::ellipse(mask, cv::Point(int(std::lround(centre.x * k)), int(std::lround(centre.y * k))),
+              cv::Size(std::max(1, int(std::lround(axes.x * k))),
+                       std::max(1, int(std::lround(axes.y * k)))),
+              0, 0, 360, cv::GC_PR_FGD, cv::FILLED);
   const int edge = std::max(2, small.cols / 100);
   mask.rowRange(0, edge).setTo(cv::GC_BGD);
   mask.colRange(0, edge).setTo(cv::GC_BGD);
@@ -48,10 +69,12 @@ cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
   // Surely head: the face's inner features (brows, eyes, nose, mouth) when given, else the face
   // box's middle.
   cv::Point seed;
-  if (face_points.size() >= 3) {
+  if (face_points) {
     std::vector<cv::Point> pts;
-    for (const cv::Point2d& p : face_points)
+    for (size_t i = 17; i < face_points->size(); ++i) {
+      const cv::Point2d& p = (*face_points)[i];
       pts.emplace_back(int(std::lround(p.x * k)), int(std::lround(p.y * k)));
+    }
     std::vector<cv::Point> hull;
     cv::convexHull(pts, hull);
     cv::fillConvexPoly(mask, hull, cv::GC_FGD);

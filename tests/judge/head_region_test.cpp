@@ -1,7 +1,6 @@
 #include "judge/head_region.h"
 
 #include <cmath>
-#include <vector>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
@@ -51,8 +50,9 @@ TEST(HeadRegion, CutsTheHeadWithItsHairOutOfClutter) {
 }
 
 // A head turned to the image's left on a dark cloth, as in a 45-degree portrait: dark-brown hair
-// wide behind the face, the face at the box's left so that the box's right third is background.
-cv::Mat turned_head_photo(cv::Mat& head, std::vector<cv::Point2d>& inner) {
+// wide behind the face, the face at the box's left so that the box's lower right is cloth, and
+// dlib's 68 points of such a face (nose tip out beyond the near eye).
+cv::Mat turned_head_photo(cv::Mat& head, Landmarks68& points) {
   cv::Mat photo(480, 640, CV_8UC3, cv::Scalar(55, 30, 35));  // dark blue-purple cloth
   cv::Mat noise(photo.size(), CV_8UC3);
   cv::RNG rng(3);
@@ -65,21 +65,30 @@ cv::Mat turned_head_photo(cv::Mat& head, std::vector<cv::Point2d>& inner) {
   photo.setTo(cv::Scalar(120, 150, 200), face);
   head |= face;
   photo += noise;
-  for (int i = 0; i < 12; ++i)  // brows, eyes, nose and mouth inside the face
-    inner.emplace_back(255 + 5 * i, 200 + 8 * (i % 6));
+  for (int i = 0; i < 17; ++i) {  // the jaw, round the face's lower half
+    const double a = CV_PI * i / 16.0;
+    points[size_t(i)] = {285 - 50 * std::cos(a), 245 + 80 * std::sin(a)};
+  }
+  for (int i = 17; i < 27; ++i) points[size_t(i)] = {245 + 7.0 * (i - 17), 205};  // brows
+  for (int i = 27; i < 36; ++i) points[size_t(i)] = {250 - 1.0 * (i - 27), 220 + 5.0 * (i - 27)};
+  for (int i = 36; i < 48; ++i) points[size_t(i)] = {255 + 5.0 * (i - 36), 225};  // eyes
+  points[30] = {238, 262};                                                        // nose tip
+  for (int i = 48; i < 68; ++i) points[size_t(i)] = {255 + 2.0 * (i - 48), 290};  // mouth
   return photo;
 }
 
 TEST(HeadRegion, TheFacePointsKeepTheBackgroundBesideATurnedFaceOut) {
   cv::Mat truth;
-  std::vector<cv::Point2d> inner;
-  const cv::Mat photo = turned_head_photo(truth, inner);
-  const cv::Rect box(240, 170, 150, 150);  // its lower right is cloth
-  const cv::Mat region = head_region(photo, box, inner);
+  Landmarks68 points;
+  const cv::Mat photo = turned_head_photo(truth, points);
+  const cv::Rect box(240, 170, 150, 150);
+  const cv::Mat region = head_region(photo, box, &points);
   const cv::Mat eye = cv::Mat::eye(2, 3, CV_64F);
   EXPECT_GT(head_iou(region, eye, truth, 335), 0.9);
   EXPECT_EQ(region.at<uchar>(285, 355), 0);  // in the box's middle, but cloth
   EXPECT_GT(region.at<uchar>(120, 420), 0);  // the hair behind the face
+  // The box alone takes its middle for face, cloth and all.
+  EXPECT_GT(head_region(photo, box).at<uchar>(285, 355), 0);
 }
 
 TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
@@ -91,8 +100,10 @@ TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
   EXPECT_THROW(head_region(grey, {260, 170, 120, 130}), std::invalid_argument);
   EXPECT_THROW(head_region(photo, {600, 400, 120, 130}), std::invalid_argument);  // outside
   EXPECT_THROW(head_region(photo, {260, 170, 2, 2}), std::invalid_argument);      // too small
-  const std::vector<cv::Point2d> not_finite = {{300, 200}, {NAN, 210}, {320, 220}};
-  EXPECT_THROW(head_region(photo, {260, 170, 120, 130}, not_finite), std::invalid_argument);
+  Landmarks68 not_finite;
+  not_finite.fill({300, 200});
+  not_finite[40].y = NAN;
+  EXPECT_THROW(head_region(photo, {260, 170, 120, 130}, &not_finite), std::invalid_argument);
 }
 
 TEST(HeadIou, OverlapAfterTheTransformAboveTheCut) {
