@@ -1,8 +1,10 @@
 // The reconstruction folder: written (all files first in a staging folder beside it) and read back,
 // here only.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -226,6 +228,18 @@ ViewModel view_model(const Reconstruction& r, HeadExtent extent,
   if (hull.mesh.triangles.empty()) return v;
   v.mesh = model::combined(r.mesh, hull.mesh);
   if (hull.pivot.allFinite()) v.pivot = hull.pivot;
+  // The neck twists between the chin (the face mesh's lowest point) and the hull's lowest point:
+  // no turn over its lowest fifth, then a smooth step up to the head's full turn at the chin.
+  double chin = std::numeric_limits<double>::infinity(), bottom = chin;
+  for (const Eigen::Vector3d& p : r.mesh.vertices) chin = std::min(chin, p.y());
+  for (const Eigen::Vector3d& p : v.mesh.vertices) bottom = std::min(bottom, p.y());
+  v.turn_weights.assign(v.mesh.vertices.size(), 1.0f);
+  if (chin - bottom > 1)
+    for (size_t i = size_t(v.face_vertices); i < v.mesh.vertices.size(); ++i) {
+      const double u =
+          std::clamp(((v.mesh.vertices[i].y() - bottom) / (chin - bottom) - 0.2) / 0.8, 0.0, 1.0);
+      v.turn_weights[i] = float(u * u * (3 - 2 * u));
+    }
   return v;
 }
 
@@ -241,6 +255,7 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
   auto synth = std::make_unique<render::ViewSynthesizer>(model.mesh, r.photo_rig, r.front, r.side);
   if (model.face_vertices < int(model.mesh.vertices.size()))  // the head hull follows the face
     synth->set_face_vertices(model.face_vertices);
+  if (!model.turn_weights.empty()) synth->set_turn_weights(model.turn_weights);
   synth->set_photo_masks({}, r.side_mask);
   synth->set_mirror_plane(model::mid_sagittal_plane(r.landmarks));  // nullopt without pairs
   return synth;

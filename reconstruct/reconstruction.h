@@ -188,6 +188,11 @@ struct ViewModel {
   // Views turn the head about this point (capture::turned_camera): the neck (model::HeadHull::
   // pivot), so the turned head stays over the body; the head frame's origin without a hull.
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
+  // How much each vertex turns with the head (render::ViewSynthesizer::set_turn_weights): 1 from
+  // the face's lowest point up, easing to 0 over the neck below it, so that with the body's
+  // camera (render::SynthesisOptions::body_camera) the neck twists and meets the unturned body.
+  // Empty without a hull.
+  std::vector<float> turn_weights;
   // The camera of a new view at yaw / pitch (degrees, capture::camera_at's convention): `base`
   // (e.g. the front camera, rescaled to the output) turned about the pivot.
   capture::CameraModel camera(const capture::CameraModel& base, double yaw_deg,

@@ -105,8 +105,12 @@ ViewRenderer::ViewRenderer(const Reconstruction& r, const ViewOptions& options)
                                   "feature pairs");
     options_.synthesis.unseen = render::UnseenSide::Front;
   }
-  if (options_.background.kind == ViewBackground::Kind::Photo)
+  if (options_.background.kind == ViewBackground::Kind::Photo) {
     scene_ = view_scene(r, *synth_).fitted(width_, height_);
+    // Drawn into the photo, the body stays as the photo shows it: the neck twists into it.
+    options_.synthesis.body_camera = base_;
+    options_.synthesis.body_pivot = model_.pivot;
+  }
 }
 
 ViewRenderer::~ViewRenderer() = default;

@@ -173,6 +173,9 @@ void SynthesisOptions::check() const {
   if (blend_bands < 1 || blend_bands > 12) bad("blend_bands must be in 1..12");
   if (!(hull_max_stretch == 0 || (hull_max_stretch >= 1.5 && hull_max_stretch <= 100)))
     bad("hull_max_stretch must be 0 or in 1.5..100");
+  if (body_camera && !capture::camera_problem(*body_camera).empty())
+    bad("body_camera: " + capture::camera_problem(*body_camera));
+  if (!body_pivot.allFinite()) bad("body_pivot must be finite");
 }
 
 struct ViewSynthesizer::Impl {
@@ -183,6 +186,8 @@ struct ViewSynthesizer::Impl {
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
   GLuint seen_vbo = 0;     // per-vertex visibility in each source, face or not (attribute 4)
+  GLuint turn_vbo = 0;     // per-vertex turn weight (attribute 5; 1 when none is set)
+  bool has_turn = false;   // set_turn_weights gave weights for this mesh
   int face_vertices = -1;  // set_face_vertices (-1: all)
   std::vector<Eigen::Vector3d> vertices, normals;
   std::vector<std::array<int, 3>> triangles;
@@ -208,6 +213,7 @@ struct ViewSynthesizer::Impl {
     glUniform1i(glGetUniformLocation(equalize_prog, "lut"), 1);
     glUniform1f(glGetUniformLocation(equalize_prog, "lut_size"), float(detail::kLutSize));
     glGenVertexArrays(1, &empty_vao);
+    glVertexAttrib1f(5, 1.0f);  // no turn weights: every vertex turns with the view
   }
   ~Impl() {
     context.make_current();
@@ -219,6 +225,7 @@ struct ViewSynthesizer::Impl {
     }
     glDeleteVertexArrays(1, &empty_vao);
     if (seen_vbo) glDeleteBuffers(1, &seen_vbo);
+    if (turn_vbo) glDeleteBuffers(1, &turn_vbo);
     mesh.release();
     fb.release();
     for (GLuint p : view_prog)
@@ -443,6 +450,7 @@ void ViewSynthesizer::set_mesh(const mesh::TriMesh& mesh) {
   impl_->mesh = gl::upload_mesh(mesh, false);
   impl_->vertices = mesh.vertices;
   impl_->face_vertices = -1;
+  impl_->has_turn = false;  // a new vertex array: attribute 5 is off, every vertex turns
   impl_->triangles.assign(mesh.triangles.begin(), mesh.triangles.end());
   impl_->ordered_for.reset();  // mesh order
   impl_->facts_for.reset();
@@ -495,6 +503,30 @@ void ViewSynthesizer::set_face_vertices(int count) {
   impl_->face_vertices = count;
   impl_->ordered_for.reset();  // the hull's triangles are classed by the hull's bias
   impl_->upload_seen();
+}
+
+void ViewSynthesizer::set_turn_weights(const std::vector<float>& weights) {
+  Impl& m = *impl_;
+  if (!weights.empty() && weights.size() != m.vertices.size())
+    throw std::invalid_argument("set_turn_weights: " + std::to_string(weights.size()) +
+                                " weights for " + std::to_string(m.vertices.size()) + " vertices");
+  for (float w : weights)
+    if (!(w >= 0 && w <= 1))
+      throw std::invalid_argument("set_turn_weights: a weight is outside 0..1");
+  m.context.make_current();
+  glBindVertexArray(m.mesh.vao);
+  if (weights.empty()) {
+    glDisableVertexAttribArray(5);
+  } else {
+    if (!m.turn_vbo) glGenBuffers(1, &m.turn_vbo);
+    glBindBuffer(GL_ARRAY_BUFFER, m.turn_vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(weights.size() * sizeof(float)), weights.data(),
+                 GL_STATIC_DRAW);
+    glEnableVertexAttribArray(5);
+    glVertexAttribPointer(5, 1, GL_FLOAT, GL_FALSE, 0, nullptr);
+  }
+  glBindVertexArray(0);
+  m.has_turn = !weights.empty();
 }
 
 void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, ColourUpdate colour) {
@@ -574,7 +606,14 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   if (!mirrors_view(camera, o)) return render_direct(camera, o);
   // The mirror image's view stands on the photographed side; flipped, it is this view of the
   // mirrored head.
-  SynthesisResult r = render_direct(capture::reflected(camera, *impl_->mirror_plane), o);
+  SynthesisOptions mo = o;
+  if (o.body_camera) {
+    const Eigen::Vector4d& plane = *impl_->mirror_plane;
+    mo.body_camera = capture::reflected(*o.body_camera, plane);
+    const Eigen::Vector3d n = plane.head<3>();
+    mo.body_pivot = o.body_pivot - 2 * (n.dot(o.body_pivot) - plane[3]) * n;
+  }
+  SynthesisResult r = render_direct(capture::reflected(camera, *impl_->mirror_plane), mo);
   for (cv::Mat* image : {&r.view.image, &r.view.mask, &r.view.depth_mm, &r.weights})
     if (!image->empty()) cv::flip(*image, *image, 1);
   return r;
@@ -618,12 +657,22 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
     const double feather = feather_band(o);
     const double bias = view_bias(to_front, to_side, to_view, o);
     const Eigen::Matrix4f reflect_f = reflect.cast<float>();
+    // The body's turn back (SynthesisOptions::body_camera): the rotation taking a point to where
+    // this camera sees it as the body camera sees the point itself.
+    Eigen::AngleAxisd twist(0, Eigen::Vector3d::UnitY());
+    if (o.body_camera && m.has_turn)
+      twist = Eigen::AngleAxisd(
+          (camera.cam_from_head.inverse() * o.body_camera->cam_from_head).linear());
     auto draw = [&](Visibility visibility, int only_source, GLsizei first, GLsizei count) {
       if (count == 0) return;
       const GLuint p = m.view_program(visibility, weighted, only_source, floating, mirror);
       glUseProgram(p);
       glUniformMatrix4fv(glGetUniformLocation(p, "clip_from_head"), 1, GL_FALSE, clip.data());
       glUniformMatrix4fv(glGetUniformLocation(p, "mirror"), 1, GL_FALSE, reflect_f.data());
+      glUniform4f(glGetUniformLocation(p, "twist"), float(twist.axis().x()),
+                  float(twist.axis().y()), float(twist.axis().z()), float(twist.angle()));
+      glUniform3f(glGetUniformLocation(p, "twist_pivot"), float(o.body_pivot.x()),
+                  float(o.body_pivot.y()), float(o.body_pivot.z()));
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
       glUniform1f(glGetUniformLocation(p, "hull_bias"), float(o.hull_view_share));

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <opencv2/core.hpp>
 
@@ -89,7 +90,14 @@ struct SynthesisOptions {
   bool source_weights = false;       // also return per-pixel source weights (slower)
   bool depth = true;                 // also read back view.depth_mm; false: left empty
                                      // (image and mask only: less readback per frame)
-  void check() const;                // throws std::invalid_argument naming the bad field
+  // The neck twists, the body stays: with a body camera (e.g. the camera the view turns from)
+  // and turn weights (ViewSynthesizer::set_turn_weights), a vertex of weight w is drawn turned
+  // back toward how body_camera sees it by (1 - w) of the view's turn, about body_pivot (the
+  // point the view's camera turned about, head frame, mm): weight 0 where the neck meets the
+  // body, 1 on the head. Without one (the default) the whole mesh turns as one.
+  std::optional<capture::CameraModel> body_camera;
+  Eigen::Vector3d body_pivot = Eigen::Vector3d::Zero();
+  void check() const;  // throws std::invalid_argument naming the bad field
 };
 
 struct SynthesisResult {
@@ -155,6 +163,10 @@ class ViewSynthesizer {
   // -1 (the default, and after set_mesh): every vertex is the face. Throws
   // std::invalid_argument for a count outside -1..vertex count.
   void set_face_vertices(int count);
+  // How much each vertex turns with the head (0..1, SynthesisOptions::body_camera); empty (the
+  // default, and after set_mesh): every vertex turns fully. Throws std::invalid_argument when
+  // the count is not the mesh's vertex count or a weight is outside 0..1.
+  void set_turn_weights(const std::vector<float>& weights);
   // Recomputes the colour match from the current photos and mesh (e.g. after a lighting change).
   void update_colour_match();
   // New source cameras (e.g. the station's rig composed with a tracked head pose,

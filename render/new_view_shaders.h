@@ -27,7 +27,10 @@ inline const char* kViewVertex = R"(
 layout(location = 0) in vec3 pos;
 layout(location = 1) in vec3 nrm;
 layout(location = 4) in vec3 seen;  // visible in source 0, 1; the face (1) or the hull (0)
+layout(location = 5) in float turn;  // how much the vertex turns with the head (1: fully)
 uniform mat4 clip_from_head;
+uniform vec4 twist;        // the body's turn back: axis (xyz), angle (w, radians)
+uniform vec3 twist_pivot;  // ... about this point
 uniform mat4 src_from_head[2];
 uniform int persp[3];  // the front (0) and side (1) cameras, and the new view (2)
 uniform vec3 centre[3];
@@ -38,6 +41,7 @@ out vec2 v_z;
 out vec2 v_cos;
 out vec2 v_seen;
 out float v_face;
+out float v_body;      // the share of the body's turn back the point takes (0 on the head)
 out float v_cos_view;  // the new view's facing cosine
 #ifdef MIRROR
 uniform mat4 mirror;  // head -> head reflection through the mid-sagittal plane
@@ -48,8 +52,19 @@ vec3 q(int i, vec3 pc) { return persp[i] == 1 ? pc : vec3(pc.xy, 1.0); }
 float facing(int i, vec3 p, vec3 n) {
   return dot(n, persp[i] == 1 ? normalize(centre[i] - p) : toward[i]);
 }
+// v turned by angle a about the unit axis k (Rodrigues).
+vec3 turned(vec3 v, float a) {
+  vec3 k = twist.xyz;
+  float c = cos(a), s = sin(a);
+  return v * c + cross(k, v) * s + k * dot(k, v) * (1.0 - c);
+}
 void main() {
-  gl_Position = clip_from_head * vec4(pos, 1.0);
+  // The view draws the point where its share of the body's turn back puts it; the photos are
+  // sampled where the point is.
+  float a = (1.0 - turn) * twist.w;
+  v_body = twist.w != 0.0 ? 1.0 - turn : 0.0;
+  vec3 drawn = twist_pivot + turned(pos - twist_pivot, a);
+  gl_Position = clip_from_head * vec4(drawn, 1.0);
   vec3 p0 = (src_from_head[0] * vec4(pos, 1.0)).xyz;
   vec3 p1 = (src_from_head[1] * vec4(pos, 1.0)).xyz;
   v_q0 = q(0, p0);
@@ -58,7 +73,7 @@ void main() {
   float len = length(nrm);
   vec3 n = len > 0.0 ? nrm / len : vec3(0.0);
   v_cos = vec2(facing(0, pos, n), facing(1, pos, n));
-  v_cos_view = facing(2, pos, n);
+  v_cos_view = facing(2, drawn, turned(n, a));
   v_seen = seen.xy;
   v_face = seen.z;
 #ifdef MIRROR
@@ -83,6 +98,7 @@ in vec2 v_z;
 in vec2 v_cos;
 in vec2 v_seen;
 in float v_face;
+in float v_body;
 in float v_cos_view;
 #ifdef MIRROR
 in vec3 v_q2;
@@ -209,6 +225,9 @@ void main() {
   // beside the front photo's face, which real faces show as a seam.
   float pf = smoothstep(-feather, feather, v_cos.x - cos1 + bias * mix(hull_bias, 1.0, v_face));
 #endif
+  // Where the neck is turned back toward the body's camera (the front camera), the front photo
+  // paints it, so it meets the photo's own neck and body without a seam.
+  pf = mix(pf, 1.0, v_body);
   float w0 = a0 * (1.0 - a1) + a0 * a1 * pf;
   float w1 = a1 * (1.0 - a0) + a0 * a1 * (1.0 - pf);
   float unseen = (1.0 - a0) * (1.0 - a1);

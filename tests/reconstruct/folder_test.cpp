@@ -73,6 +73,28 @@ TEST_F(Folder, ReadsBackWhatWasWritten) {
   EXPECT_TRUE(back.front_plate.empty());  // reconstructed without a clean plate
 }
 
+// The neck twists into the body: the face and everything above the chin turn fully, the neck's
+// lowest vertices not at all, and the weights never leave 0..1; the face mesh alone has none.
+TEST_F(Folder, TheNeckTurnsLessTheLowerItIs) {
+  const ViewModel whole = view_model(*rec_, HeadExtent::Whole);
+  ASSERT_EQ(whole.turn_weights.size(), whole.mesh.vertices.size());
+  double chin = 1e9, bottom = 1e9;
+  for (const Eigen::Vector3d& p : rec_->mesh.vertices) chin = std::min(chin, p.y());
+  size_t lowest = 0;
+  for (size_t i = 0; i < whole.mesh.vertices.size(); ++i) {
+    const double y = whole.mesh.vertices[i].y();
+    if (y < bottom) bottom = y, lowest = i;
+    EXPECT_GE(whole.turn_weights[i], 0.0f);
+    EXPECT_LE(whole.turn_weights[i], 1.0f);
+    if (i < size_t(whole.face_vertices) || y >= chin) {
+      EXPECT_EQ(whole.turn_weights[i], 1.0f);
+    }
+  }
+  ASSERT_GT(chin - bottom, 20);  // the sim head's hull has a neck
+  EXPECT_EQ(whole.turn_weights[lowest], 0.0f);
+  EXPECT_TRUE(view_model(*rec_, HeadExtent::Face).turn_weights.empty());
+}
+
 // The whole head turned 30 degrees covers the true head's silhouette; the face mesh alone does
 // not (the truth is the sim head itself, turned about the same pivot).
 TEST_F(Folder, TheWholeHeadCoversTheTrueHeadsSilhouette) {

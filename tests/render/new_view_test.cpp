@@ -65,6 +65,43 @@ TEST(NewView, ViewBlendTakesEachPhotoAtItsOwnCamera) {
   }
 }
 
+// The neck twists, the body stays: vertices of turn weight 0 are drawn where the body camera
+// sees them whatever the view's turn, in the front photo's colours; weight 1 turns with the view.
+TEST(NewView, VerticesThatDoNotTurnStayAsTheBodyCameraSeesThem) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  const Eigen::Vector3d pivot(0, -40, -10);
+  const CameraModel turned = capture::turned_camera(s.rig.front, 20, 0, pivot);
+  SynthesisOptions o;
+  o.body_camera = s.rig.front;
+  o.body_pivot = pivot;
+  const SynthesisResult at_front = synth.render(s.rig.front, o);
+  const SynthesisResult plain = synth.render(turned, o);  // no weights: the whole mesh turns
+  synth.set_turn_weights(std::vector<float>(s.bare.vertices.size(), 0.0f));
+  const SynthesisResult stays = synth.render(turned, o);
+  // The same silhouette and the front photo's picture as at the front camera...
+  EXPECT_LT(cv::countNonZero(stays.view.mask != at_front.view.mask), 200);
+  EXPECT_GT(psnr(at_front.view.image, stays.view.image, at_front.view.mask & stays.view.mask),
+            35.0);
+  // ...where the turned view differs.
+  EXPECT_LT(psnr(at_front.view.image, plain.view.image, at_front.view.mask & plain.view.mask),
+            30.0);
+  synth.set_turn_weights(std::vector<float>(s.bare.vertices.size(), 1.0f));
+  EXPECT_EQ(cv::countNonZero(synth.render(turned, o).view.mask != plain.view.mask), 0);
+  synth.set_turn_weights({});
+  EXPECT_EQ(cv::countNonZero(synth.render(turned, o).view.mask != plain.view.mask), 0);
+  // Bad weights and a bad body camera are refused.
+  EXPECT_THROW(synth.set_turn_weights({0.5f, 0.5f}), std::invalid_argument);
+  EXPECT_THROW(synth.set_turn_weights(std::vector<float>(s.bare.vertices.size(), 1.5f)),
+               std::invalid_argument);
+  SynthesisOptions bad = o;
+  bad.body_camera->width = 0;
+  EXPECT_THROW(synth.render(turned, bad), std::invalid_argument);
+  bad = o;
+  bad.body_pivot.x() = NAN;
+  EXPECT_THROW(synth.render(turned, bad), std::invalid_argument);
+}
+
 TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted})
     EXPECT_EQ(parse_blend(blend_name(b)), b);
