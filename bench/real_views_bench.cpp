@@ -109,10 +109,26 @@ const std::pair<const char*, std::vector<int>> kEyePoints[] = {
     {"eye_right_center", {36, 37, 38, 39, 40, 41}},
     {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
 
-// The judge's eye points in the order of kEyePoints.
-std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
+// Beside the eyes, points that fix the face's height too (the eyes lie nearly on one line, so an
+// alignment by them alone scales by their spread, which is the sitter's turn as much as the
+// head's size): the mouth corners (iBUG 48, 54) and the chin's lowest point (8).
+const std::pair<const char*, std::vector<int>> kShapePoints[] = {
+    {"eye_right_outer", {36}},
+    {"eye_right_inner", {39}},
+    {"eye_left_inner", {42}},
+    {"eye_left_outer", {45}},
+    {"eye_right_center", {36, 37, 38, 39, 40, 41}},
+    {"eye_left_center", {42, 43, 44, 45, 46, 47}},
+    {"mouth_right", {48}},
+    {"mouth_left", {54}},
+    {"chin_bottom", {8}}};
+
+// The judge's points of `list` (kEyePoints or kShapePoints), in its order.
+template <size_t N>
+std::vector<cv::Point2f> judge_points(const std::pair<const char*, std::vector<int>> (&list)[N],
+                                      const judge::Landmarks68& points) {
   std::vector<cv::Point2f> out;
-  for (const auto& entry : kEyePoints) {
+  for (const auto& entry : list) {
     cv::Point2d mean(0, 0);
     for (int i : entry.second) mean += points[size_t(i)];
     out.push_back(mean / double(entry.second.size()));
@@ -120,18 +136,25 @@ std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
   return out;
 }
 
-// The similarity taking the view's pixels onto the real photo's by the eyes; empty when the model
-// lacks the eye landmarks.
+std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
+  return judge_points(kEyePoints, points);
+}
+
+// The similarity taking the view's pixels onto the real photo's by the points of `list` (the
+// model's landmarks through the view's camera against the judge's); empty when the model lacks
+// three of them.
+template <size_t N>
 cv::Mat view_to_real(const reconstruct::Reconstruction& rec, const capture::CameraModel& camera,
-                     const judge::Landmarks68& real) {
-  const std::vector<cv::Point2f> real_eyes = eye_points(real);
+                     const judge::Landmarks68& real,
+                     const std::pair<const char*, std::vector<int>> (&list)[N]) {
+  const std::vector<cv::Point2f> real_points = judge_points(list, real);
   std::vector<cv::Point2f> from, to;
-  for (size_t k = 0; k < std::size(kEyePoints); ++k) {
-    const auto it = rec.landmarks.find(kEyePoints[k].first);
+  for (size_t k = 0; k < N; ++k) {
+    const auto it = rec.landmarks.find(list[k].first);
     if (it == rec.landmarks.end()) continue;
     const Eigen::Vector2d px = capture::project(camera, it->second);
     from.emplace_back(float(px.x()), float(px.y()));
-    to.push_back(real_eyes[k]);
+    to.push_back(real_points[k]);
   }
   if (from.size() < 3) return {};
   return cv::estimateAffinePartial2D(from, to, cv::noArray(), cv::LMEDS);
@@ -213,8 +236,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
-  int cut_out = 0;                    // pairs vision cut out of a busy background
-  double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
+  int cut_out = 0;  // pairs vision cut out of a busy background
+  double iou_sum = 0, black_max = 0, iou_shape_sum = 0;  // shape: aligned by kShapePoints
+  int iou_shape_n = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
   // Identity at +-45: face descriptor distance (vision::FaceDescriber) from the view to the real
   // photo, and from the front photo unrotated to it (the baseline), where dlib finds all three.
@@ -402,8 +426,17 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
           const auto& real_face = side_k == 0 ? real_near_face : real_far_face;
           if (!real_face) continue;  // dlib does not annotate this real photo: not scored
           if (!real_head[side_k].empty()) {
-            const cv::Mat m =
-                view_to_real(rec, model.camera(rec.rig.front, yaw, 0), real_face->points);
+            const capture::CameraModel view_camera = model.camera(rec.rig.front, yaw, 0);
+            const cv::Mat m = view_to_real(rec, view_camera, real_face->points, kEyePoints);
+            // The same outline aligned by the face's height too (a diagnostic beside the
+            // issue's eye-aligned figure).
+            const cv::Mat ms = view_to_real(rec, view_camera, real_face->points, kShapePoints);
+            if (!ms.empty()) {
+              const double iou_shape =
+                  judge::head_iou(v.view.mask, ms, real_head[side_k], real_face->points[8].y);
+              iou_shape_sum += iou_shape, ++iou_shape_n;
+              r["head_iou_45_shape_aligned"][side_k == 0 ? "photographed" : "other"] = iou_shape;
+            }
             if (!m.empty()) {
               const double iou =
                   judge::head_iou(v.view.mask, m, real_head[side_k], real_face->points[8].y);
@@ -512,6 +545,9 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
                                           {"scored", id_n[s]}};
   out["psnr_yaw0_vs_front_min"] = psnr_front_min;
   if (iou_n > 0) out["head_iou_45"] = {{"mean", iou_sum / iou_n}, {"scored", iou_n}};
+  if (iou_shape_n > 0)
+    out["head_iou_45_shape_aligned"] = {{"mean", iou_shape_sum / iou_shape_n},
+                                        {"scored", iou_shape_n}};
   if (iou_base_n > 0)
     out["baseline_head_iou_45"] = {{"mean", iou_base_sum / iou_base_n}, {"scored", iou_base_n}};
   if (opt.composite)
@@ -553,6 +589,11 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
         "real photo: IoU %.3f mean over %d views (the front photo's head unrotated: %.3f over "
         "%d).\n",
         iou_sum / iou_n, iou_n, iou_base_n ? iou_base_sum / iou_base_n : NAN, iou_base_n);
+  if (iou_shape_n > 0)
+    md += cv::format(
+        "The same aligned by the eyes, mouth corners and chin (the face's height fixes the "
+        "scale): IoU %.3f mean over %d views.\n",
+        iou_shape_sum / iou_shape_n, iou_shape_n);
   if (opt.composite)
     md += cv::format(
         "Composited views: pure black at most %.4f of a frame; %d not the front "
