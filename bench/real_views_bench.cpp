@@ -291,8 +291,12 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       so.unseen = opt.unseen;
       // The photographed side: the yaw sign that turns the view toward the side camera.
       const double near_sign = capture::photographed_side_sign(rig);
+      // Composited, the turned views twist the neck into the unturned body as `render` does;
+      // the source cameras' own views (the reproduction below) do not.
+      render::SynthesisOptions turned = so;
+      if (opt.composite) turned.body_camera = rec.rig.front, turned.body_pivot = model.pivot;
       auto view = [&](double yaw_deg) {
-        return synth->render(model.camera(rec.rig.front, yaw_deg, 0), so);
+        return synth->render(model.camera(rec.rig.front, yaw_deg, 0), turned);
       };
       r["photographed_side_yaw_sign"] = near_sign;
       r["head_yaw_deg"] = rec.report.head_yaw_deg;

@@ -189,7 +189,8 @@ struct ViewModel {
   // pivot), so the turned head stays over the body; the head frame's origin without a hull.
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
   // How much each vertex turns with the head (render::ViewSynthesizer::set_turn_weights): 1 from
-  // the face's lowest point up, easing to 0 over the neck below it, so that with the body's
+  // halfway between the hull's lowest point and the face's lowest point up, easing to 0 at the
+  // hull's lowest point, so that with the body's
   // camera (render::SynthesisOptions::body_camera) the neck twists and meets the unturned body.
   // Empty without a hull.
   std::vector<float> turn_weights;

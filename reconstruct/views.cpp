@@ -108,8 +108,10 @@ ViewRenderer::ViewRenderer(const Reconstruction& r, const ViewOptions& options)
   if (options_.background.kind == ViewBackground::Kind::Photo) {
     scene_ = view_scene(r, *synth_).fitted(width_, height_);
     // Drawn into the photo, the body stays as the photo shows it: the neck twists into it.
-    options_.synthesis.body_camera = base_;
-    options_.synthesis.body_pivot = model_.pivot;
+    if (options_.twist_neck) {
+      options_.synthesis.body_camera = base_;
+      options_.synthesis.body_pivot = model_.pivot;
+    }
   }
 }
 

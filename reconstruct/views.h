@@ -40,6 +40,9 @@ struct ViewOptions {
   // reconstruction has none: true draws the unseen side from the front photo
   // (render::UnseenSide::Front); false refuses (std::invalid_argument).
   bool unseen_fallback = true;
+  // Drawn into the photo (background photo), the neck twists into the photo's unturned body
+  // (render::SynthesisOptions::body_camera); false turns the whole head and neck as one.
+  bool twist_neck = true;
   void check() const;  // throws std::invalid_argument naming the bad field
 };
 

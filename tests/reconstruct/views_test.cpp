@@ -1,4 +1,5 @@
 // Finished new views (reconstruct/views.h) and the report text (report_json).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -56,6 +57,22 @@ TEST_F(Views, DrawsTheFrontPhotosSizeOrTheAskedOne) {
   ASSERT_EQ(t.type(), CV_8UC4);
   EXPECT_EQ(t.at<cv::Vec4b>(0, 0)[3], 0);
   EXPECT_EQ(t.at<cv::Vec4b>(60, 80)[3], 255);  // the face
+}
+
+// Drawn into the photo the lower neck twists into the unturned body; twist_neck false turns the
+// whole head and neck as one. Above the chin the two views are the same.
+TEST_F(Views, TheNeckTwistsIntoThePhotoUnlessAskedNotTo) {
+  ViewOptions rigid_options;
+  rigid_options.twist_neck = false;
+  ViewRenderer twisted(*rec_, {}), rigid(*rec_, rigid_options);
+  const FinishedView a = twisted.view(30, 0), b = rigid.view(30, 0);
+  const double chin =
+      capture::project(twisted.camera(30, 0), rec_->landmarks.at("chin_bottom")).y();
+  const int above = std::clamp(int(chin) - 2, 1, a.image.rows);
+  cv::Mat diff;
+  cv::absdiff(a.image, b.image, diff);
+  EXPECT_EQ(cv::countNonZero(diff.rowRange(0, above).reshape(1) > 2), 0);
+  EXPECT_GT(cv::countNonZero(diff.rowRange(above, diff.rows).reshape(1) > 0), 1000);
 }
 
 TEST_F(Views, RefusesBadInput) {
