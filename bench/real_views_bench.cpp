@@ -99,34 +99,30 @@ void draw_points(cv::Mat& image, const std::optional<judge::FaceFound>& face) {
   for (const cv::Point2d& p : face->points) cv::circle(image, p, 2, {0, 255, 0}, cv::FILLED);
 }
 
+// Named points: a landmark of the model (vision/landmarks.h) and the iBUG points whose mean is
+// the judge's on a real photo.
+using NamedPoints = std::vector<std::pair<const char*, std::vector<int>>>;
+
 // The view's eye corners and centres (the model's landmarks through the view's camera) and the
 // judge's on a real photo: iBUG 36, 39, 42, 45 and the means of 36-41 / 42-47.
-const std::pair<const char*, std::vector<int>> kEyePoints[] = {
-    {"eye_right_outer", {36}},
-    {"eye_right_inner", {39}},
-    {"eye_left_inner", {42}},
-    {"eye_left_outer", {45}},
-    {"eye_right_center", {36, 37, 38, 39, 40, 41}},
-    {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
+const NamedPoints kEyePoints = {{"eye_right_outer", {36}},
+                                {"eye_right_inner", {39}},
+                                {"eye_left_inner", {42}},
+                                {"eye_left_outer", {45}},
+                                {"eye_right_center", {36, 37, 38, 39, 40, 41}},
+                                {"eye_left_center", {42, 43, 44, 45, 46, 47}}};
 
 // Beside the eyes, points that fix the face's height too (the eyes lie nearly on one line, so an
 // alignment by them alone scales by their spread, which is the sitter's turn as much as the
 // head's size): the mouth corners (iBUG 48, 54) and the chin's lowest point (8).
-const std::pair<const char*, std::vector<int>> kShapePoints[] = {
-    {"eye_right_outer", {36}},
-    {"eye_right_inner", {39}},
-    {"eye_left_inner", {42}},
-    {"eye_left_outer", {45}},
-    {"eye_right_center", {36, 37, 38, 39, 40, 41}},
-    {"eye_left_center", {42, 43, 44, 45, 46, 47}},
-    {"mouth_right", {48}},
-    {"mouth_left", {54}},
-    {"chin_bottom", {8}}};
+const NamedPoints kShapePoints = [] {
+  NamedPoints p = kEyePoints;
+  p.insert(p.end(), {{"mouth_right", {48}}, {"mouth_left", {54}}, {"chin_bottom", {8}}});
+  return p;
+}();
 
-// The judge's points of `list` (kEyePoints or kShapePoints), in its order.
-template <size_t N>
-std::vector<cv::Point2f> judge_points(const std::pair<const char*, std::vector<int>> (&list)[N],
-                                      const judge::Landmarks68& points) {
+// The judge's points of `list`, in its order.
+std::vector<cv::Point2f> judge_points(const NamedPoints& list, const judge::Landmarks68& points) {
   std::vector<cv::Point2f> out;
   for (const auto& entry : list) {
     cv::Point2d mean(0, 0);
@@ -143,13 +139,11 @@ std::vector<cv::Point2f> eye_points(const judge::Landmarks68& points) {
 // The similarity taking the view's pixels onto the real photo's by the points of `list` (the
 // model's landmarks through the view's camera against the judge's); empty when the model lacks
 // three of them.
-template <size_t N>
 cv::Mat view_to_real(const reconstruct::Reconstruction& rec, const capture::CameraModel& camera,
-                     const judge::Landmarks68& real,
-                     const std::pair<const char*, std::vector<int>> (&list)[N]) {
+                     const judge::Landmarks68& real, const NamedPoints& list) {
   const std::vector<cv::Point2f> real_points = judge_points(list, real);
   std::vector<cv::Point2f> from, to;
-  for (size_t k = 0; k < N; ++k) {
+  for (size_t k = 0; k < list.size(); ++k) {
     const auto it = rec.landmarks.find(list[k].first);
     if (it == rec.landmarks.end()) continue;
     const Eigen::Vector2d px = capture::project(camera, it->second);
