@@ -49,8 +49,9 @@ Command render_command() {
             "pick (the photo the surface faces more, seed 004) or weighted"},
            {"background", true,
             "photo (default: the front photo's own scene, the head removed: its clean plate "
-            "when reconstruct had --front-background, else inpainted), black, white, grey, "
-            "#RRGGBB, R,G,B or transparent (PNG)"},
+            "when reconstruct had --front-background, else inpainted; the lower neck twists "
+            "into the photo's unturned body), black, white, grey, #RRGGBB, R,G,B or transparent "
+            "(PNG)"},
            {"turntable", true, "N  N views from yaw -90 to 90 (view_yaw<D>.png) + a sheet at -o"},
            {"no-equalize", false, "use the photos' colours as they are"},
            {"no-float", false,
