@@ -230,10 +230,11 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
   double nme_sum[2] = {0, 0}, base_sum[2] = {0, 0}, psnr_front_min = INFINITY,
          psnr_side_min = INFINITY;
   int nme_n[2] = {0, 0}, better[2] = {0, 0}, compared[2] = {0, 0}, reconstructed = 0;
-  int cut_out = 0;  // pairs vision cut out of a busy background
-  double iou_sum = 0, black_max = 0, iou_shape_sum = 0;  // shape: aligned by kShapePoints
-  int iou_shape_n = 0;  // whole-head silhouette IoU at +-45; pure-black share
+  int cut_out = 0;                    // pairs vision cut out of a busy background
+  double iou_sum = 0, black_max = 0;  // whole-head silhouette IoU at +-45; pure-black share
   int iou_n = 0, wrong_size = 0;
+  double iou_shape_sum = 0;  // the same IoU aligned by kShapePoints
+  int iou_shape_n = 0;
   // Identity at +-45: face descriptor distance (vision::FaceDescriber) from the view to the real
   // photo, and from the front photo unrotated to it (the baseline), where dlib finds all three.
   double id_sum[2] = {0, 0}, id_base_sum[2] = {0, 0};
@@ -361,10 +362,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       for (const auto& [key, face] :
            {std::pair{"front", &front_face}, std::pair{"near", &real_near_face},
             std::pair{"far", &real_far_face}})
-        if (*face) {
-          const auto& d = (*face)->points;
-          nose_between_eyes[key] = (d[30].x - d[36].x) / std::max(1e-9, double(d[45].x - d[36].x));
-        }
+        if (*face)
+          nose_between_eyes[key] = io::number_or_null(judge::nose_between_eyes((*face)->points));
       r["nose_between_eyes"] = nose_between_eyes;
       if (front_face) {  // vision's front landmarks against the judge's, / outer-eye distance
         const auto& d = front_face->points;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <limits>
 #include <stdexcept>
 #include <vector>
 
@@ -104,6 +105,11 @@ double shape_nme(const Landmarks68& view, const Landmarks68& real) {
 
 double shape_nme_or_miss(const std::optional<FaceFound>& view, const Landmarks68& real) {
   return view ? shape_nme(view->points, real) : 1.0;
+}
+
+double nose_between_eyes(const Landmarks68& p) {
+  const double span = p[45].x - p[36].x;
+  return span == 0 ? std::numeric_limits<double>::quiet_NaN() : (p[30].x - p[36].x) / span;
 }
 
 }  // namespace orthoface::judge

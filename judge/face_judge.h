@@ -71,4 +71,10 @@ double shape_nme(const Landmarks68& view, const Landmarks68& real);
 // NME of a view that may have no face: 1.0 when none was found (the judge's rule).
 double shape_nme_or_miss(const std::optional<FaceFound>& view, const Landmarks68& real);
 
+// Where the nose tip (iBUG 30) lies between the outer eye corners (36, 45) along the image's x:
+// 0 at point 36, 1 at point 45, 0.5 on a frontal face, beyond 0..1 on a face turned past the
+// nose's crossing of an eye; the head's turn as a camera saw it. NaN when the corners share a
+// column.
+double nose_between_eyes(const Landmarks68& points);
+
 }  // namespace orthoface::judge

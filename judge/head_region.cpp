@@ -16,10 +16,15 @@ cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
   const cv::Rect frame(0, 0, photo.cols, photo.rows);
   if (face_box.width < 4 || face_box.height < 4 || (face_box & frame) != face_box)
     throw std::invalid_argument("head_region: the face box is not inside the photo");
+  // A face point is on the photo or near it (a face cut by the frame's edge): one further off
+  // is not a face of this photo.
   if (face_points)
     for (const cv::Point2d& p : *face_points)
-      if (!std::isfinite(p.x) || !std::isfinite(p.y))
-        throw std::invalid_argument("head_region: a face point is not a finite number");
+      if (!(std::abs(p.x - 0.5 * photo.cols) <= 1.5 * photo.cols &&
+            std::abs(p.y - 0.5 * photo.rows) <= 1.5 * photo.rows))
+        throw std::invalid_argument(
+            "head_region: a face point lies far outside the photo or "
+            "is not a number");
   const double k = std::min(1.0, 480.0 / photo.cols);
   cv::Mat small;
   cv::resize(photo, small, {}, k, k, cv::INTER_AREA);
@@ -48,7 +53,7 @@ cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
     for (const cv::Point2d& q : p) x0 = std::min(x0, q.x), x1 = std::max(x1, q.x);
     for (int i = 17; i < 27; ++i) brow = std::min(brow, p[size_t(i)].y);
     const double e = std::max(1.0, std::abs(p[45].x - p[36].x));
-    const double s = (p[30].x - p[36].x) / (p[45].x - p[36].x == 0 ? 1.0 : p[45].x - p[36].x);
+    const double between = nose_between_eyes(p), s = std::isnan(between) ? 0.5 : between;
     const double f = std::clamp(std::abs(s - 0.5) / 0.4, 0.0, 1.0);
     const bool nose_right = (s > 0.5) == (p[45].x > p[36].x);
     const double near = e * (0.35 * (1 - f) + 0.15 * f), back = e * (0.35 * (1 - f) + 1.3 * f);

@@ -20,7 +20,8 @@ namespace orthoface::judge {
 // and sides; the connected part that holds the face. The wide "probably head" keeps dark
 // hair's colours out of the background's model, which a tight one taught it (the hair then fell
 // to the background). CV_8U, 255 = head, the photo's size. Throws std::invalid_argument on an
-// empty or non-BGR photo, a face box outside it or a face point that is not finite.
+// empty or non-BGR photo, a face box outside it or a face point that is not a number or lies
+// more than the photo's size beyond its edges.
 cv::Mat head_region(const cv::Mat& photo, const cv::Rect& face_box,
                     const Landmarks68* face_points = nullptr);
 

@@ -190,9 +190,8 @@ struct ViewModel {
   Eigen::Vector3d pivot = Eigen::Vector3d::Zero();
   // How much each vertex turns with the head (render::ViewSynthesizer::set_turn_weights): 1 from
   // halfway between the hull's lowest point and the face's lowest point up, easing to 0 at the
-  // hull's lowest point, so that with the body's
-  // camera (render::SynthesisOptions::body_camera) the neck twists and meets the unturned body.
-  // Empty without a hull.
+  // hull's lowest point, so that with the body's camera (render::SynthesisOptions::body_camera)
+  // the neck twists and meets the unturned body. Empty without a hull.
   std::vector<float> turn_weights;
   // The camera of a new view at yaw / pitch (degrees, capture::camera_at's convention): `base`
   // (e.g. the front camera, rescaled to the output) turned about the pivot.

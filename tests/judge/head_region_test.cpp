@@ -104,6 +104,11 @@ TEST(HeadRegion, RefusesBadPhotosAndBoxes) {
   not_finite.fill({300, 200});
   not_finite[40].y = NAN;
   EXPECT_THROW(head_region(photo, {260, 170, 120, 130}, &not_finite), std::invalid_argument);
+  Landmarks68 far_off = not_finite;
+  far_off[40] = {300, 1e12};  // finite, but no face of this photo (and past int's range)
+  EXPECT_THROW(head_region(photo, {260, 170, 120, 130}, &far_off), std::invalid_argument);
+  far_off[40] = {-20, 210};  // a face cut by the frame's edge is fine
+  EXPECT_EQ(head_region(photo, {260, 170, 120, 130}, &far_off).size(), photo.size());
 }
 
 TEST(HeadIou, OverlapAfterTheTransformAboveTheCut) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include <gtest/gtest.h>
 #include <opencv2/imgcodecs.hpp>
@@ -61,6 +62,21 @@ TEST(ShapeNme, IsTheMeanScoredDistanceOverTheOuterEyeDistance) {
   // The eye points are not scored and only align: moving the brows changes nothing.
   for (int k = 17; k <= 26; ++k) view[k].y -= 30;
   EXPECT_NEAR(shape_nme(view, real), 20 * 10 / 46.0 / iod, 1e-6);
+}
+
+// The nose tip's place between the outer eye corners: 0.5 frontal, past 1 on a face turned
+// until the nose crosses the eye at point 45, NaN when the corners share a column.
+TEST(NoseBetweenEyes, PlacesTheNoseTipBetweenTheOuterEyeCorners) {
+  Landmarks68 p;
+  p.fill({0, 0});
+  p[36] = {100, 50}, p[45] = {200, 50}, p[30] = {150, 90};
+  EXPECT_DOUBLE_EQ(nose_between_eyes(p), 0.5);
+  p[30].x = 230;
+  EXPECT_DOUBLE_EQ(nose_between_eyes(p), 1.3);
+  std::swap(p[36], p[45]);  // the corners the other way round: measured from point 36 still
+  EXPECT_DOUBLE_EQ(nose_between_eyes(p), -0.3);
+  p[45].x = p[36].x;
+  EXPECT_TRUE(std::isnan(nose_between_eyes(p)));
 }
 
 TEST(ShapeNme, RefusesDegenerateEyesAndCountsAMissAsOne) {
