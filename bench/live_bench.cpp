@@ -8,7 +8,10 @@
 // The head talks: its mouth opens up to MOUTH mm at the chin and closes three times a loop
 // (sim::SimCameraOptions::mouth_mm), and the mouth is scored on its own.
 //
-//   live_bench [SUBJECTS] [OUT_DIR] [MOUTH_MM]    (default 3 subjects: 1, 2, 3; mouth 8 mm)
+//   live_bench [SUBJECTS] [OUT_DIR] [MOUTH_MM] [KEEP_BAND]
+//   (default 3 subjects: 1, 2, 3; mouth 8 mm; KEEP_BAND: LiveViewOptions::keep_live_band, the
+//   share of the frame's width beside the drawn head where the live frame stays, default the
+//   station's)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -89,8 +92,9 @@ cv::Mat mouth_mask(const sim::Head& head, const capture::CameraModel& camera, cv
   return m;
 }
 
-nlohmann::json run_subject(int subject, double mouth_mm, const std::string& out_dir,
-                           std::ostringstream& md) {
+nlohmann::json run_subject(int subject, double mouth_mm,
+                           const reconstruct::LiveViewOptions& live_options,
+                           const std::string& out_dir, std::ostringstream& md) {
   sim::SimCameraOptions o;
   o.subject = subject;
   o.motion_deg = 25;
@@ -113,7 +117,7 @@ nlohmann::json run_subject(int subject, double mouth_mm, const std::string& out_
   ro.rig = sim::sim_camera_rig(o, kWidth, kHeight, 0);
   const reconstruct::Reconstruction fit =
       reconstruct::from_photos(pair.first.image, pair.second.image, ro);
-  reconstruct::LiveView live(fit);
+  reconstruct::LiveView live(fit, live_options);
 
   std::vector<double> err, err_raw, psnr, psnr_face, psnr_mouth, latency, track_ms, texture_ms,
       draw_ms, out_t;
@@ -182,7 +186,7 @@ nlohmann::json run_subject(int subject, double mouth_mm, const std::string& out_
   still.motion_deg = still.pitch_deg = still.mouth_mm = 0;
   still.cycle_frames = 30;
   Cameras rest(still);
-  reconstruct::LiveView steady(fit);
+  reconstruct::LiveView steady(fit, live_options);
   std::vector<std::vector<Eigen::Vector2d>> tracks;
   for (int k = 0; k < 90; ++k) {
     const auto [f, s] = rest.next();
@@ -240,6 +244,8 @@ int main(int argc, char** argv) {
     const int subjects = argc > 1 ? std::stoi(argv[1]) : 3;
     const std::string out_dir = argc > 2 ? argv[2] : "";
     const double mouth_mm = argc > 3 ? std::stod(argv[3]) : 8.0;
+    orthoface::reconstruct::LiveViewOptions live_options;
+    if (argc > 4) live_options.keep_live_band = std::stod(argv[4]);
     if (subjects < 1 || subjects > 50) throw std::invalid_argument("SUBJECTS must be in 1..50");
     if (!(mouth_mm >= 0 && mouth_mm <= 15))
       throw std::invalid_argument("MOUTH_MM must be in 0..15");
@@ -252,7 +258,7 @@ int main(int argc, char** argv) {
     nlohmann::json runs = nlohmann::json::array();
     std::vector<double> err, psnr, psnr_face, psnr_mouth, fps, lat, jit;
     for (int s = 1; s <= subjects; ++s) {
-      runs.push_back(run_subject(s, mouth_mm, out_dir, md));
+      runs.push_back(run_subject(s, mouth_mm, live_options, out_dir, md));
       const auto& r = runs.back();
       err.push_back(r["pose_error_deg"]["median"]);
       psnr.push_back(r["psnr_head_db"]["mean"]);
@@ -266,6 +272,7 @@ int main(int argc, char** argv) {
                               {"correction_pitch_deg", kCorrectionPitchDeg},
                               {"motion", "yaw +-25 deg, pitch +-15 deg, 4 s loop, noise 2"},
                               {"mouth_mm", mouth_mm},
+                              {"keep_live_band", live_options.keep_live_band},
                               {"subjects", runs},
                               {"mean",
                                {{"pose_error_median_deg", mean(err)},

@@ -37,6 +37,8 @@ void check_frame(const cv::Mat& frame, const capture::CameraModel& camera, const
 LiveView::LiveView(const Reconstruction& fit, const LiveViewOptions& options) : options_(options) {
   options_.tracker.check();
   options_.hull.check();
+  if (!(options_.keep_live_band >= 0 && options_.keep_live_band <= 0.25))
+    throw std::invalid_argument("live view: keep_live_band must be within 0..0.25");
   load(fit);
 }
 
@@ -128,7 +130,8 @@ LiveFrame LiveView::update(const cv::Mat& front, const cv::Mat& side, double t_s
   const capture::CameraModel turned =
       capture::turned_camera(rig_.front, yaw_deg, pitch_deg, pose.apply(model_.pivot));
   out.camera = capture::posed_camera(turned, pose.rotation, pose.translation_mm);
-  out.image = scene_.composite(synth_->render(out.camera, image_only).view, front);
+  const int keep_px = int(std::lround(options_.keep_live_band * front.cols));
+  out.image = scene_.composite(synth_->render(out.camera, image_only).view, front, keep_px);
   out.draw_ms = now_ms() - t;
   return out;
 }

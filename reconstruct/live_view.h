@@ -23,6 +23,12 @@ struct LiveViewOptions {
   // false: the tracker follows the face above the lips' line only (TrackerOptions::min_height_mm;
   // the lower lip and jaw move as the person talks); true: the whole face.
   bool track_mouth = false;
+  // Within this share of the frame's width outside the drawn head the live frame's own pixels
+  // stay (ViewScene::composite's keep_px): where the fitted hull falls a few pixels short of the
+  // real head, its real edge shows rather than the removed region's fill, and the real scene
+  // beside the head rather than an inpainted one. A head moved further than this by the
+  // correction leaves no trace of its old place. 0: the removed region filled throughout.
+  double keep_live_band = 0.01;
   // The head hull, coarser than the offline views' (2 mm, 96): each of its triangles is drawn
   // three times a frame (two source depth maps and the view).
   model::HullOptions hull = [] {

@@ -225,8 +225,11 @@ struct ViewScene {
   // `view` (of the scene's size and framing) drawn into the scene.
   cv::Mat composite(const render::RenderResult& view) const;
   // The same over `frame` (a later photo from the same camera, e.g. a live frame) with the
-  // removed region taken from the scene: the body moves, the head's place stays filled.
-  cv::Mat composite(const render::RenderResult& view, const cv::Mat& frame) const;
+  // removed region taken from the scene: the body moves, the head's place stays filled. Within
+  // `keep_px` pixels outside the view's head the frame's own pixels stay instead: the real
+  // head's edge where the model's hull falls short of it, and the real scene rather than a fill.
+  // Throws std::invalid_argument for a frame of another size or type, or a negative keep_px.
+  cv::Mat composite(const render::RenderResult& view, const cv::Mat& frame, int keep_px = 0) const;
   // The scene scaled into a width x height frame as render::fitted does.
   ViewScene fitted(int width, int height) const;
 };

@@ -76,12 +76,30 @@ cv::Mat ViewScene::composite(const render::RenderResult& view) const {
   return render::composite(view, background, o);
 }
 
-cv::Mat ViewScene::composite(const render::RenderResult& view, const cv::Mat& frame) const {
+cv::Mat ViewScene::composite(const render::RenderResult& view, const cv::Mat& frame,
+                             int keep_px) const {
   if (frame.size() != background.size() || frame.type() != background.type())
     throw std::invalid_argument("composite: the frame must be 8-bit BGR of the scene's size");
+  if (keep_px < 0) throw std::invalid_argument("composite: keep_px must be >= 0");
   ViewScene live = *this;
   live.background = frame.clone();
-  background.copyTo(live.background, removed);
+  if (keep_px > 0 && view.mask.size() == removed.size()) {
+    // Only around the removed region (a live frame's budget: the whole frame's dilation costs
+    // about 2 ms on two cores).
+    const cv::Rect box = cv::boundingRect(removed);
+    const cv::Rect roi = (box + cv::Size(2 * keep_px, 2 * keep_px) - cv::Point(keep_px, keep_px)) &
+                         cv::Rect(0, 0, removed.cols, removed.rows);
+    if (!roi.empty()) {
+      cv::Mat near_head;
+      cv::dilate(view.mask(roi), near_head,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * keep_px + 1, 2 * keep_px + 1}));
+      cv::Mat fill = removed(roi) & ~near_head;  // a new mask: removed stays as it is
+      cv::Mat out = live.background(roi);
+      background(roi).copyTo(out, fill);
+    }
+  } else {
+    background.copyTo(live.background, removed);
+  }
   return live.composite(view);
 }
 

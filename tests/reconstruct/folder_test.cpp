@@ -156,7 +156,28 @@ TEST_F(Folder, TheSceneLosesTheHeadAndYawZeroGivesThePhotoBack) {
   cv::findNonZero(in_removed_only, filled);
   ASSERT_FALSE(filled.empty());
   EXPECT_EQ(live.at<cv::Vec3b>(filled.front()), scene.background.at<cv::Vec3b>(filled.front()));
+  // Within keep_px outside the view's head the frame stays (the real head's edge and scene),
+  // further out the removed region is the scene's fill.
+  constexpr int kKeep = 6;
+  const cv::Mat removed_before = scene.removed.clone();
+  const cv::Mat kept = scene.composite(zero, frame, kKeep);
+  EXPECT_EQ(cv::countNonZero(scene.removed != removed_before), 0);  // the scene is left as it was
+  cv::Mat near_head, band, beyond;
+  cv::dilate(zero.mask, near_head,
+             cv::getStructuringElement(cv::MORPH_ELLIPSE, {2 * kKeep + 1, 2 * kKeep + 1}));
+  band = scene.removed & near_head & ~zero.mask;
+  beyond = scene.removed & ~near_head;
+  std::vector<cv::Point> in_band, out_band;
+  cv::findNonZero(band, in_band);
+  cv::findNonZero(beyond, out_band);
+  ASSERT_FALSE(in_band.empty());
+  ASSERT_FALSE(out_band.empty());
+  for (const cv::Point& p : {in_band.front(), in_band.back()})
+    EXPECT_EQ(kept.at<cv::Vec3b>(p), frame.at<cv::Vec3b>(p)) << p;
+  for (const cv::Point& p : {out_band.front(), out_band.back()})
+    EXPECT_EQ(kept.at<cv::Vec3b>(p), scene.background.at<cv::Vec3b>(p)) << p;
   EXPECT_THROW(scene.composite(zero, cv::Mat(10, 10, CV_8UC3)), std::invalid_argument);
+  EXPECT_THROW(scene.composite(zero, frame, -1), std::invalid_argument);
   const ViewScene half = scene.fitted(scene.background.cols / 2, scene.background.rows / 2);
   EXPECT_NEAR(half.fade_from_row, scene.fade_from_row / 2, 1);
 }

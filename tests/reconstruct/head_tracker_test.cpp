@@ -350,6 +350,11 @@ TEST_F(HeadTracking, LiveViewUntrackedSaysSoAndRefusesBadFrames) {
   EXPECT_THROW(LiveView{no_photos}, std::invalid_argument);
   o.tracker.min_inliers = 1;
   EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
+  o = LiveViewOptions{};
+  o.keep_live_band = -0.01;
+  EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
+  o.keep_live_band = NAN;
+  EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
 }
 
 }  // namespace
