@@ -8,10 +8,10 @@
 // The head talks: its mouth opens up to MOUTH mm at the chin and closes three times a loop
 // (sim::SimCameraOptions::mouth_mm), and the mouth is scored on its own.
 //
-//   live_bench [SUBJECTS] [OUT_DIR] [MOUTH_MM] [KEEP_BAND]
+//   live_bench [SUBJECTS] [OUT_DIR] [MOUTH_MM] [KEEP_BAND] [SCENE_DIFFERENCE]
 //   (default 3 subjects: 1, 2, 3; mouth 8 mm; KEEP_BAND: LiveViewOptions::keep_live_band, the
 //   share of the frame's width beside the drawn head where the live frame stays, default the
-//   station's)
+//   station's; SCENE_DIFFERENCE: LiveViewOptions::scene_difference, 0 = no live mask)
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -246,6 +246,7 @@ int main(int argc, char** argv) {
     const double mouth_mm = argc > 3 ? std::stod(argv[3]) : 8.0;
     orthoface::reconstruct::LiveViewOptions live_options;
     if (argc > 4) live_options.keep_live_band = std::stod(argv[4]);
+    if (argc > 5) live_options.scene_difference = std::stoi(argv[5]);
     if (subjects < 1 || subjects > 50) throw std::invalid_argument("SUBJECTS must be in 1..50");
     if (!(mouth_mm >= 0 && mouth_mm <= 15))
       throw std::invalid_argument("MOUTH_MM must be in 0..15");
@@ -273,6 +274,7 @@ int main(int argc, char** argv) {
                               {"motion", "yaw +-25 deg, pitch +-15 deg, 4 s loop, noise 2"},
                               {"mouth_mm", mouth_mm},
                               {"keep_live_band", live_options.keep_live_band},
+                              {"scene_difference", live_options.scene_difference},
                               {"subjects", runs},
                               {"mean",
                                {{"pose_error_median_deg", mean(err)},

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <opencv2/imgproc.hpp>
+
 #include "capture/camera_model.h"
 #include "model/symmetry.h"
 
@@ -32,6 +34,21 @@ void check_frame(const cv::Mat& frame, const capture::CameraModel& camera, const
                                 "x" + std::to_string(camera.height));
 }
 
+// Where `frame` shows the subject: everything but the pixels within `threshold` grey levels of
+// `scene` inside `known` that reach the frame's border through such pixels (so a patch of the
+// head that happens to match the scene behind it stays the subject's).
+cv::Mat live_subject(const cv::Mat& frame, const cv::Mat& scene, const cv::Mat& known,
+                     int threshold) {
+  cv::Mat diff;
+  cv::absdiff(frame, scene, diff);
+  cv::cvtColor(diff, diff, cv::COLOR_BGR2GRAY);
+  cv::Mat background = (diff <= threshold) & known;
+  cv::Mat padded;  // a frame of background all round: one flood fill reaches every border pixel
+  cv::copyMakeBorder(background, padded, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(255));
+  cv::floodFill(padded, cv::Point(0, 0), cv::Scalar(128), nullptr, cv::Scalar(), cv::Scalar(), 4);
+  return padded(cv::Rect(1, 1, frame.cols, frame.rows)) != 128;
+}
+
 }  // namespace
 
 LiveView::LiveView(const Reconstruction& fit, const LiveViewOptions& options) : options_(options) {
@@ -39,6 +56,8 @@ LiveView::LiveView(const Reconstruction& fit, const LiveViewOptions& options) : 
   options_.hull.check();
   if (!(options_.keep_live_band >= 0 && options_.keep_live_band <= 0.25))
     throw std::invalid_argument("live view: keep_live_band must be within 0..0.25");
+  if (options_.scene_difference < 0 || options_.scene_difference > 255)
+    throw std::invalid_argument("live view: scene_difference must be within 0..255");
   load(fit);
 }
 
@@ -58,11 +77,21 @@ void LiveView::load(const Reconstruction& fit) {
   } else {  // the same render context, reloaded as view_synthesizer loads a new one
     synth_->set_rig(fit.photo_rig);
     synth_->set_mesh(model.mesh);
-    synth_->set_photos(fit.front, fit.side, render::ColourUpdate::Recompute);
+    synth_->set_photos(fit.front, fit.side, cv::Mat(), cv::Mat(), render::ColourUpdate::Recompute);
     synth_->set_mirror_plane(model::mid_sagittal_plane(fit.landmarks));
   }
   synth_->set_face_vertices(model.face_vertices);
   scene_ = view_scene(fit, *synth_);
+  // The scene is background where the head was removed and wherever the fit's front photo did
+  // not show the subject; elsewhere (the body below the neck) it shows the subject itself.
+  scene_known_ = scene_.removed.clone();
+  if (fit.front_silhouette.size() == scene_known_.size()) scene_known_ |= fit.front_silhouette == 0;
+  side_scene_.release();
+  side_known_.release();
+  if (!options_.still_side && fit.side_silhouette.size() == fit.side.size()) {
+    side_scene_ = fit.side;
+    side_known_ = fit.side_silhouette == 0;
+  }
   model_ = std::move(model);
   rig_ = fit.rig;
   photo_rig_ = fit.photo_rig;
@@ -112,7 +141,15 @@ LiveFrame LiveView::update(const cv::Mat& front, const cv::Mat& side, double t_s
       synth_->set_rig(rig);
       textured_pose_ = pose;
     }
-    synth_->set_photos(front, side);
+    if (options_.scene_difference > 0)
+      synth_->set_photos(
+          front, side,
+          live_subject(front, scene_.background, scene_known_, options_.scene_difference),
+          side_known_.empty()
+              ? cv::Mat()
+              : live_subject(side, side_scene_, side_known_, options_.scene_difference));
+    else
+      synth_->set_photos(front, side);
     textured_ = true;
   }
   out.texture_ms = now_ms() - t;

@@ -29,6 +29,12 @@ struct LiveViewOptions {
   // beside the head rather than an inpainted one. A head moved further than this by the
   // correction leaves no trace of its old place. 0: the removed region filled throughout.
   double keep_live_band = 0.01;
+  // A live frame's pixel that differs from the scene behind the head (the fit's front photo
+  // without the head) by at most this many grey levels, and joins the frame's border through
+  // such pixels, is background: the model takes no colour from it. Where the fitted hull
+  // reaches past the real head (the crown seen from above) it would paint the scene's colour
+  // over the head's rim; the surroundings' colours fill it instead. 0: no such mask.
+  int scene_difference = 8;
   // The head hull, coarser than the offline views' (2 mm, 96): each of its triangles is drawn
   // three times a frame (two source depth maps and the view).
   model::HullOptions hull = [] {
@@ -84,9 +90,10 @@ class LiveView {
   std::unique_ptr<render::ViewSynthesizer> synth_;
   std::unique_ptr<HeadTracker> tracker_;
   std::string tracker_error_;  // why there is no tracker
-  bool textured_ = false;
-  HeadPose textured_pose_;  // the pose the source cameras were last set to      // live photos were
-                            // set since the fit
+  cv::Mat scene_known_;        // CV_8U: where the scene shows background (removed, or not subject)
+  cv::Mat side_scene_, side_known_;  // the fit's side photo, and where it shows background
+  bool textured_ = false;            // live photos were set since the fit
+  HeadPose textured_pose_;           // the pose the source cameras were last set to
 };
 
 }  // namespace orthoface::reconstruct

@@ -540,6 +540,28 @@ void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, Colo
 }
 
 void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side) {
+  check_masks(front, side);
+  store_masks(front, side);
+  impl_->context.make_current();
+  impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
+  impl_->equalize_photos();
+}
+
+void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side,
+                                 const cv::Mat& front_mask, const cv::Mat& side_mask,
+                                 ColourUpdate colour) {
+  const cv::Mat f = as_bgr(front, impl_->rig.front, "front");
+  const cv::Mat s = as_bgr(side, impl_->rig.side, "side");
+  check_masks(front_mask, side_mask);
+  store_masks(front_mask, side_mask);
+  const bool first = !impl_->has_photos;
+  impl_->context.make_current();
+  impl_->upload_photos(f, s);
+  if (first || colour == ColourUpdate::Recompute) impl_->match_colours();
+  impl_->equalize_photos();
+}
+
+void ViewSynthesizer::check_masks(const cv::Mat& front, const cv::Mat& side) const {
   const cv::Mat masks[2] = {front, side};
   for (int i = 0; i < 2; ++i) {
     const capture::CameraModel& c = impl_->cam(i);
@@ -549,6 +571,10 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
                                   " photo mask must be CV_8U of the camera's size " +
                                   std::to_string(c.width) + "x" + std::to_string(c.height));
   }
+}
+
+void ViewSynthesizer::store_masks(const cv::Mat& front, const cv::Mat& side) {
+  const cv::Mat masks[2] = {front, side};
   for (int i = 0; i < 2; ++i) {
     if (masks[i].empty()) {
       impl_->src[i].mask.release();
@@ -558,9 +584,6 @@ void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side)
   }
   impl_->ordered_for.reset();  // the masks decide which triangles take one photo alone
   impl_->facts_for.reset();
-  impl_->context.make_current();
-  impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
-  impl_->equalize_photos();
 }
 
 void ViewSynthesizer::set_mirror_plane(const std::optional<Eigen::Vector4d>& plane) {

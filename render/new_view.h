@@ -150,6 +150,10 @@ class ViewSynthesizer {
   // take the background); the mask is eroded by one pixel so bilinear samples stay inside.
   // Kept across set_photos. Throws std::invalid_argument on a wrong size or type.
   void set_photo_masks(const cv::Mat& front, const cv::Mat& side);
+  // New photos and their masks at once (one upload: a live frame and where it shows the
+  // subject). The same checks as the two calls above; nothing changes when one fails.
+  void set_photos(const cv::Mat& front, const cv::Mat& side, const cv::Mat& front_mask,
+                  const cv::Mat& side_mask, ColourUpdate colour = ColourUpdate::Keep);
   // The subject's mid-sagittal plane (n, d: n . p = d, head frame, |n| = 1; model::
   // mid_sagittal_plane): the side of the head the side camera never saw is coloured from the
   // side photo's mirror image as SynthesisOptions::unseen says. nullopt (the default) leaves
@@ -200,6 +204,8 @@ class ViewSynthesizer {
   cv::Mat source_depth(int source) const;
 
  private:
+  void check_masks(const cv::Mat& front, const cv::Mat& side) const;
+  void store_masks(const cv::Mat& front, const cv::Mat& side);
   SynthesisResult render_direct(const capture::CameraModel& camera, const SynthesisOptions& o);
   struct Impl;
   std::unique_ptr<Impl> impl_;

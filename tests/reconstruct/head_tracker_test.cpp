@@ -3,6 +3,7 @@
 // (reconstruct/live_view.h).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -301,6 +302,31 @@ TEST_F(HeadTracking, LiveViewWithoutCorrectionGivesTheLiveFrameBack) {
   EXPECT_LT(render::psnr(rest.front, turned.image, rest.front_mask), 25.0);
 }
 
+// A corrected head keeps the real head's outline: the live frame stays in a narrow band beside
+// the drawn head (where the fitted hull stops short of the real head) and the model takes no
+// colour from the scene behind the head (where the hull reaches past it, the crown seen from
+// above). Both against the true corrected frame, over the true head.
+TEST_F(HeadTracking, LiveViewCorrectedHeadKeepsTheRealOutline) {
+  const sim::Capture rest = sim::simulate_capture(*head_, sim::RigOptions{}, *renderer_);
+  const capture::CameraModel turned = capture::turned_camera(rec_->rig.front, 0, 10, model_->pivot);
+  const render::RenderResult truth =
+      sim::render_head(*head_, sim::RigOptions{}, turned, *renderer_);
+  auto psnr_with = [&](double band, int difference) {
+    LiveViewOptions o;
+    o.keep_live_band = band;
+    o.scene_difference = difference;
+    LiveView live(*rec_, o);
+    const LiveFrame f = live.update(rest.front, rest.side, 0.0, 0, 10);
+    EXPECT_TRUE(f.track.tracked) << f.track.reason;
+    return render::psnr(truth.image, f.image, truth.mask);
+  };
+  const double plain = psnr_with(0, 0), band = psnr_with(0.01, 0), both = psnr_with(0.01, 8);
+  std::printf("pitch 10 over the true head: %.1f dB, with the band %.1f dB, and the mask %.1f dB\n",
+              plain, band, both);
+  EXPECT_GT(band, plain + 1.0);
+  EXPECT_GT(both, band + 1.0);
+}
+
 // Turned toward the side the side camera never saw, the live view draws what every view of the
 // fit draws there (view_synthesizer: the mirror view through the landmarks' mid-sagittal plane),
 // not the front photo stretched over that side.
@@ -354,6 +380,11 @@ TEST_F(HeadTracking, LiveViewUntrackedSaysSoAndRefusesBadFrames) {
   o.keep_live_band = -0.01;
   EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
   o.keep_live_band = NAN;
+  EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
+  o = LiveViewOptions{};
+  o.scene_difference = -1;
+  EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
+  o.scene_difference = 256;
   EXPECT_THROW(LiveView(*rec_, o), std::invalid_argument);
 }
 

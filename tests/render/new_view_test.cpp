@@ -529,6 +529,18 @@ TEST(NewView, PhotoMasksKeepColourFromOutsideTheSubject) {
   EXPECT_THROW(synth.set_photo_masks(cv::Mat::zeros(10, 10, CV_8U), {}), std::invalid_argument);
   EXPECT_THROW(synth.set_photo_masks({}, cv::Mat::zeros(s.side.size(), CV_8UC3)),
                std::invalid_argument);
+  // New photos and masks in one call (a live frame): the same as the two calls.
+  synth.set_photos(s.front, s.side, cv::Mat(), cv::Mat::zeros(s.side.size(), CV_8U));
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_EQ(cv::countNonZero(side_weight), 0);
+  // A bad mask changes nothing: the side photo still gives no colour, the photos stay.
+  EXPECT_THROW(synth.set_photos(s.front, s.side, cv::Mat::zeros(10, 10, CV_8U), cv::Mat()),
+               std::invalid_argument);
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_EQ(cv::countNonZero(side_weight), 0);
+  synth.set_photos(s.front, s.side, cv::Mat(), cv::Mat());
+  cv::extractChannel(synth.render(cam, o).weights, side_weight, 1);
+  EXPECT_GT(cv::countNonZero(side_weight), 10000);
 }
 
 // Triangles sorted out as one photo alone or unoccluded are drawn by cheaper programs: the
