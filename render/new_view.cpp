@@ -182,6 +182,9 @@ struct ViewSynthesizer::Impl {
   gl::Context context;
   // By mirror, sources out, Visibility, weighted and only source; made on first use.
   GLuint view_prog[72] = {};
+  // The view shader's body_from_head: identity, or in a view drawn as its mirror image the
+  // reflection through the mirror plane (render()).
+  Eigen::Matrix4f body_from_head = Eigen::Matrix4f::Identity();
   GLuint depth_prog = 0, equalize_prog = 0;
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
@@ -636,7 +639,17 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
     const Eigen::Vector3d n = plane.head<3>();
     mo.body_pivot = o.body_pivot - 2 * (n.dot(o.body_pivot) - plane[3]) * n;
   }
-  SynthesisResult r = render_direct(capture::reflected(camera, *impl_->mirror_plane), mo);
+  // The body, which does not turn, keeps the front photo's own picture: drawn through the
+  // reflected camera and flipped, each of its points reads the colour of its mirror image.
+  if (o.body_camera) impl_->body_from_head = model::reflection(*impl_->mirror_plane).cast<float>();
+  SynthesisResult r;
+  try {
+    r = render_direct(capture::reflected(camera, *impl_->mirror_plane), mo);
+  } catch (...) {
+    impl_->body_from_head.setIdentity();
+    throw;
+  }
+  impl_->body_from_head.setIdentity();
   for (cv::Mat* image : {&r.view.image, &r.view.mask, &r.view.depth_mm, &r.weights})
     if (!image->empty()) cv::flip(*image, *image, 1);
   return r;
@@ -696,6 +709,10 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
                   float(twist.axis().y()), float(twist.axis().z()), float(twist.angle()));
       glUniform3f(glGetUniformLocation(p, "twist_pivot"), float(o.body_pivot.x()),
                   float(o.body_pivot.y()), float(o.body_pivot.z()));
+      glUniformMatrix4fv(glGetUniformLocation(p, "body_from_head"), 1, GL_FALSE,
+                         m.body_from_head.data());
+      glUniform1f(glGetUniformLocation(p, "body_side"),
+                  m.body_from_head.isIdentity() ? 1.0f : 0.0f);
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
       glUniform1f(glGetUniformLocation(p, "hull_bias"), float(o.hull_view_share));

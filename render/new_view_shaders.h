@@ -31,11 +31,15 @@ layout(location = 5) in float turn;  // how much the vertex turns with the head 
 uniform mat4 clip_from_head;
 uniform vec4 twist;        // the body's turn back: axis (xyz), angle (w, radians)
 uniform vec3 twist_pivot;  // ... about this point
+// The body's colours: the front photo where it sees this point (identity), or in a view drawn
+// as its mirror image where it sees the point's mirror image (the body stays unmirrored).
+uniform mat4 body_from_head;
 uniform mat4 src_from_head[2];
 uniform int persp[3];  // the front (0) and side (1) cameras, and the new view (2)
 uniform vec3 centre[3];
 uniform vec3 toward[3];
 out vec3 v_q0;
+out vec3 v_q0b;  // the front camera's view of where the body takes its colour
 out vec3 v_q1;
 out vec2 v_z;
 out vec2 v_cos;
@@ -68,6 +72,7 @@ void main() {
   vec3 p0 = (src_from_head[0] * vec4(pos, 1.0)).xyz;
   vec3 p1 = (src_from_head[1] * vec4(pos, 1.0)).xyz;
   v_q0 = q(0, p0);
+  v_q0b = q(0, (src_from_head[0] * (body_from_head * vec4(pos, 1.0))).xyz);
   v_q1 = q(1, p1);
   v_z = vec2(p0.z, p1.z);
   float len = length(nrm);
@@ -93,6 +98,7 @@ void main() {
 // / 1 and DISTORTED0 / 1 (0 or 1, per source camera).
 inline const char* kViewFragment = R"(
 in vec3 v_q0;
+in vec3 v_q0b;
 in vec3 v_q1;
 in vec2 v_z;
 in vec2 v_cos;
@@ -116,6 +122,7 @@ uniform vec2 zrange[2];  // near far of each source depth map
 uniform float tol_mm;
 uniform float feather;
 uniform float view_bias;  // View blend: the new view's preference for the front photo (0: pick)
+uniform float body_side;  // 1, or 0 in a view drawn as its mirror image (body_from_head)
 uniform float hull_bias;  // the share of view_bias on the head hull (SynthesisOptions)
 uniform float view_bias_mirror;  // ... against the side photo's mirror image
 uniform float ramp[2];    // facing cosine over which each photo's share rises from 0 to 1
@@ -180,11 +187,15 @@ float availability(int i, bool perspective, vec2 xy, vec2 uv, float z, float cos
 void main() {
   vec2 xy0 = image_xy(v_q0, PERSPECTIVE0 == 1), uv0 = image_uv(0, xy0, DISTORTED0 == 1);
   vec2 xy1 = image_xy(v_q1, PERSPECTIVE1 == 1), uv1 = image_uv(1, xy1, DISTORTED1 == 1);
+  // Where the front photo's colour is read: the body's mostly-unturned part reads it where
+  // body_from_head says (one fetch: a switch, not a blend of two places).
+  vec2 uv0c = mix(uv0, image_uv(0, image_xy(v_q0b, PERSPECTIVE0 == 1), DISTORTED0 == 1),
+                  step(0.5, v_body));
 #if defined(ONLY_SOURCE) && ONLY_SOURCE == 0
   // Triangles where the blend below is the front photo alone (ViewSynthesizer sorts them out),
   // its share only cut where it would be stretched.
   float a = unstretched(v_cos.x);
-  color = vec4(a * texture(photo0, uv0 / size[0]).rgb + (1.0 - a) * fill, 1.0);
+  color = vec4(a * texture(photo0, uv0c / size[0]).rgb + (1.0 - a) * fill, 1.0);
   weights = vec4(a, 0.0, 1.0 - a, v_face);
 #elif defined(ONLY_SOURCE) && ONLY_SOURCE == 1
   float a = unstretched(v_cos.y);
@@ -192,9 +203,12 @@ void main() {
   weights = vec4(0.0, a, 1.0 - a, v_face);
 #else
   // Alpha = the photo's subject mask (ViewSynthesizer::set_photo_masks; 1 without one).
-  vec4 c0 = texture(photo0, uv0 / size[0]), c1 = texture(photo1, uv1 / size[1]);
+  vec4 c0 = texture(photo0, uv0c / size[0]), c1 = texture(photo1, uv1 / size[1]);
   float a0 = c0.a * availability(0, PERSPECTIVE0 == 1, xy0, uv0, v_z.x, v_cos.x, zmap0, v_seen.x);
   float a1 = c1.a * availability(1, PERSPECTIVE1 == 1, xy1, uv1, v_z.y, v_cos.y, zmap1, v_seen.y);
+  // In a view drawn as its mirror image the body reads the front photo at its mirror image,
+  // which the side photo does not see: the side photo gives it nothing (body_side 0).
+  a1 *= mix(1.0, body_side, step(0.5, v_body));
   float cos1 = v_cos.y, bias = view_bias;
 #ifdef MIRROR
   // The side never photographed: where the side photo does not see the point, its mirror image

@@ -102,6 +102,37 @@ TEST(NewView, VerticesThatDoNotTurnStayAsTheBodyCameraSeesThem) {
   EXPECT_THROW(synth.render(turned, bad), std::invalid_argument);
 }
 
+// The same when the view is drawn as the flipped view of its mirror image (the side never
+// photographed): the body's vertices still stay where the body camera sees them.
+TEST(NewView, VerticesThatDoNotTurnStayInAMirroredView) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  synth.set_mirror_plane(Eigen::Vector4d(1, 0, 0, 0));
+  const Eigen::Vector3d pivot(0, -40, -10);
+  SynthesisOptions o;
+  o.body_camera = s.rig.front;
+  o.body_pivot = pivot;
+  const SynthesisResult at_front = synth.render(s.rig.front, o);
+  int mirrored = 0;
+  for (const double yaw : {-30.0, 30.0}) {
+    const CameraModel turned = capture::turned_camera(s.rig.front, yaw, 0, pivot);
+    if (!synth.mirrors_view(turned, o)) continue;
+    ++mirrored;
+    synth.set_turn_weights({});
+    const SynthesisResult plain = synth.render(turned, o);
+    synth.set_turn_weights(std::vector<float>(s.bare.vertices.size(), 0.0f));
+    const SynthesisResult stays = synth.render(turned, o);
+    EXPECT_LT(cv::countNonZero(stays.view.mask != at_front.view.mask), 200) << yaw;
+    EXPECT_GT(psnr(at_front.view.image, stays.view.image, at_front.view.mask & stays.view.mask),
+              35.0)
+        << yaw;
+    EXPECT_LT(psnr(at_front.view.image, plain.view.image, at_front.view.mask & plain.view.mask),
+              30.0)
+        << yaw;
+  }
+  EXPECT_EQ(mirrored, 1);
+}
+
 TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   for (Blend b : {Blend::View, Blend::Pick, Blend::Weighted})
     EXPECT_EQ(parse_blend(blend_name(b)), b);
