@@ -28,7 +28,7 @@ struct LiveViewOptions {
   // real head, its real edge shows rather than the removed region's fill, and the real scene
   // beside the head rather than an inpainted one. A head moved further than this by the
   // correction leaves no trace of its old place. 0: the removed region filled throughout.
-  double keep_live_band = 0.01;
+  double keep_live_band = 0.015;
   // A live frame's pixel that differs from the scene behind the head (the fit's front photo
   // without the head) by at most this many grey levels, and joins the frame's border through
   // such pixels, is background: the model takes no colour from it. Where the fitted hull
