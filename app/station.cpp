@@ -77,6 +77,10 @@ Command station_command() {
        {"out", true, "DIR  pairs and the run summary (default station_out)"},
        {"no-tracking", false,
         "draw the head where it was fitted instead of tracking it in the live frames"},
+       {"live-mask", true,
+        "N  a live pixel within N grey levels of the scene behind the head (the fit's photo "
+        "without the head), joined to the frame's border by such pixels, gives the model no "
+        "colour: 0..255, 0 off (default 8; raise it for a noisy camera, 0 when the scene moves)"},
        front_background_flag(),
        side_background_flag()},
       0};
@@ -88,6 +92,7 @@ struct Settings {
   std::shared_ptr<const reconstruct::Reconstruction> model;  // read from model_dir
   double yaw_deg = 30, pitch_deg = 0, duration_s = 0, fps = 30;
   int width = 640, height = 480, refit_every = 0, retexture_every = 1;
+  int live_mask = reconstruct::LiveViewOptions{}.scene_difference;
   bool tracking = true;
   vision::ObserveOptions observe;              // the clean plates for the refits
   std::optional<capture::RigCalibration> rig;  // --rig, or the simulated rig for sim: cameras
@@ -141,6 +146,7 @@ Settings settings_from(const Args& a) {
     s.retexture_every = to_int("retexture-every", a.get("retexture-every"), 1, 1000000);
   if (a.has("refit-every")) s.refit_every = to_int("refit-every", a.get("refit-every"), 0, 1000000);
   s.tracking = !a.has("no-tracking");
+  if (a.has("live-mask")) s.live_mask = to_int("live-mask", a.get("live-mask"), 0, 255);
   s.output = a.get("output", s.output);
   s.bind = a.get("bind", s.bind);
   s.out = a.get("out", s.out);
@@ -227,6 +233,7 @@ Station::Station(const Settings& s) : s_(s) {
     one_stats_.front_connected = true;
     reconstruct::LiveViewOptions o;
     o.tracking = s_.tracking;
+    o.scene_difference = s_.live_mask;
     o.still_side = true;  // the side texture is the model's own profile photo
     live_ = std::make_unique<reconstruct::LiveView>(*s_.model, o);
     events_.push_back("model read from " + s_.model_dir + " (" +
@@ -323,6 +330,7 @@ void Station::finish_fit() {
     if (!live_) {
       reconstruct::LiveViewOptions o;
       o.tracking = s_.tracking;
+      o.scene_difference = s_.live_mask;
       live_ = std::make_unique<reconstruct::LiveView>(r, o);
     } else {
       live_->refit(r);
@@ -482,6 +490,7 @@ void Station::write_summary() {
       {"reconnects", st.reconnects},
       {"fits", fits_},
       {"retexture_every", s_.retexture_every},
+      {"live_mask", s_.live_mask},
       {"set_photos_ms_median", percentile(retexture_ms_, 0.5)},
       {"render_ms_median", percentile(draw_ms_, 0.5)},
       {"tracking",

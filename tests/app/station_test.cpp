@@ -143,6 +143,12 @@ TEST(StationCommand, BadInputGivesOneErrorLine) {
                 dir.string());
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.output.find("not a video output device"), std::string::npos) << r.output;
+  for (const char* bad : {"256", "-1", "eight"}) {
+    r = orthoface("station --front sim:1/front --side sim:1/side --live-mask " + std::string(bad) +
+                  " --out " + dir.string());
+    EXPECT_EQ(r.code, 1) << bad;
+    EXPECT_NE(r.output.find("error: --live-mask"), std::string::npos) << r.output;
+  }
   // A clean plate of another size than the capture is refused before any camera opens.
   cv::imwrite((dir / "plate.png").string(), cv::Mat(240, 320, CV_8UC3, cv::Scalar::all(0)));
   r = orthoface("station --front sim:1/front --side sim:1/side --front-background " +
@@ -361,6 +367,7 @@ TEST(StationCommand, TracksAMovingHeadReplayedFromFiles) {
   const auto summary = nlohmann::json::parse(read_text(dir / "out/station_summary.json"));
   const auto& t = summary.at("tracking");
   EXPECT_TRUE(t.at("enabled").get<bool>());
+  EXPECT_EQ(summary.at("live_mask").get<int>(), 8);
   const int tracked = t.at("frames_tracked"), lost = t.at("frames_lost");
   EXPECT_GT(tracked, 10) << summary.dump(2);
   EXPECT_LE(lost, tracked / 10) << summary.dump(2);
