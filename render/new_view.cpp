@@ -182,9 +182,6 @@ struct ViewSynthesizer::Impl {
   gl::Context context;
   // By mirror, sources out, Visibility, weighted and only source; made on first use.
   GLuint view_prog[72] = {};
-  // The view shader's body_from_head: identity, or in a view drawn as its mirror image the
-  // reflection through the mirror plane (render()).
-  Eigen::Matrix4f body_from_head = Eigen::Matrix4f::Identity();
   GLuint depth_prog = 0, equalize_prog = 0;
   GLuint empty_vao = 0;  // the equalisation pass draws without vertex buffers
   gl::GpuMesh mesh;
@@ -242,6 +239,11 @@ struct ViewSynthesizer::Impl {
   bool seen_stale = false;  // the sources' depth maps changed since upload_seen
   void sort_elements(const SynthesisOptions& o, double bias);
   void upload_photos(const cv::Mat& front, const cv::Mat& side);
+  // New photos (checked): uploaded, the colour match recomputed when asked or first, equalised.
+  void load_photos(const cv::Mat& front, const cv::Mat& side, ColourUpdate colour);
+  // Photo masks (set_photo_masks): checked (throws before anything changes), then kept eroded.
+  void check_masks(const cv::Mat& front, const cv::Mat& side) const;
+  void store_masks(const cv::Mat& front, const cv::Mat& side);
   void match_colours();
   // photo_eq = lookup(photo) over each source's footprint; `keep` leaves the texels already
   // equalised with these photos and this match (`equalized`) as they are.
@@ -535,16 +537,12 @@ void ViewSynthesizer::set_turn_weights(const std::vector<float>& weights) {
 void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side, ColourUpdate colour) {
   const cv::Mat f = as_bgr(front, impl_->rig.front, "front");
   const cv::Mat s = as_bgr(side, impl_->rig.side, "side");
-  const bool first = !impl_->has_photos;
-  impl_->context.make_current();
-  impl_->upload_photos(f, s);
-  if (first || colour == ColourUpdate::Recompute) impl_->match_colours();
-  impl_->equalize_photos();
+  impl_->load_photos(f, s, colour);
 }
 
 void ViewSynthesizer::set_photo_masks(const cv::Mat& front, const cv::Mat& side) {
-  check_masks(front, side);
-  store_masks(front, side);
+  impl_->check_masks(front, side);
+  impl_->store_masks(front, side);
   impl_->context.make_current();
   impl_->upload_photos(impl_->src[0].raw.clone(), impl_->src[1].raw.clone());
   impl_->equalize_photos();
@@ -555,19 +553,24 @@ void ViewSynthesizer::set_photos(const cv::Mat& front, const cv::Mat& side,
                                  ColourUpdate colour) {
   const cv::Mat f = as_bgr(front, impl_->rig.front, "front");
   const cv::Mat s = as_bgr(side, impl_->rig.side, "side");
-  check_masks(front_mask, side_mask);
-  store_masks(front_mask, side_mask);
-  const bool first = !impl_->has_photos;
-  impl_->context.make_current();
-  impl_->upload_photos(f, s);
-  if (first || colour == ColourUpdate::Recompute) impl_->match_colours();
-  impl_->equalize_photos();
+  impl_->check_masks(front_mask, side_mask);
+  impl_->store_masks(front_mask, side_mask);
+  impl_->load_photos(f, s, colour);
 }
 
-void ViewSynthesizer::check_masks(const cv::Mat& front, const cv::Mat& side) const {
+void ViewSynthesizer::Impl::load_photos(const cv::Mat& front, const cv::Mat& side,
+                                        ColourUpdate colour) {
+  const bool first = !has_photos;
+  context.make_current();
+  upload_photos(front, side);
+  if (first || colour == ColourUpdate::Recompute) match_colours();
+  equalize_photos();
+}
+
+void ViewSynthesizer::Impl::check_masks(const cv::Mat& front, const cv::Mat& side) const {
   const cv::Mat masks[2] = {front, side};
   for (int i = 0; i < 2; ++i) {
-    const capture::CameraModel& c = impl_->cam(i);
+    const capture::CameraModel& c = cam(i);
     if (!masks[i].empty() &&
         (masks[i].type() != CV_8UC1 || masks[i].cols != c.width || masks[i].rows != c.height))
       throw std::invalid_argument(std::string("new view: ") + (i ? "side" : "front") +
@@ -576,17 +579,17 @@ void ViewSynthesizer::check_masks(const cv::Mat& front, const cv::Mat& side) con
   }
 }
 
-void ViewSynthesizer::store_masks(const cv::Mat& front, const cv::Mat& side) {
+void ViewSynthesizer::Impl::store_masks(const cv::Mat& front, const cv::Mat& side) {
   const cv::Mat masks[2] = {front, side};
   for (int i = 0; i < 2; ++i) {
     if (masks[i].empty()) {
-      impl_->src[i].mask.release();
+      src[i].mask.release();
       continue;
     }
-    cv::erode(masks[i] != 0, impl_->src[i].mask, cv::Mat());  // 3x3: one pixel
+    cv::erode(masks[i] != 0, src[i].mask, cv::Mat());  // 3x3: one pixel
   }
-  impl_->ordered_for.reset();  // the masks decide which triangles take one photo alone
-  impl_->facts_for.reset();
+  ordered_for.reset();  // the masks decide which triangles take one photo alone
+  facts_for.reset();
 }
 
 void ViewSynthesizer::set_mirror_plane(const std::optional<Eigen::Vector4d>& plane) {
@@ -641,22 +644,18 @@ SynthesisResult ViewSynthesizer::render(const capture::CameraModel& camera,
   }
   // The body, which does not turn, keeps the front photo's own picture: drawn through the
   // reflected camera and flipped, each of its points reads the colour of its mirror image.
-  if (o.body_camera) impl_->body_from_head = model::reflection(*impl_->mirror_plane).cast<float>();
-  SynthesisResult r;
-  try {
-    r = render_direct(capture::reflected(camera, *impl_->mirror_plane), mo);
-  } catch (...) {
-    impl_->body_from_head.setIdentity();
-    throw;
-  }
-  impl_->body_from_head.setIdentity();
+  Eigen::Matrix4f body_from_head = Eigen::Matrix4f::Identity();
+  if (o.body_camera) body_from_head = model::reflection(*impl_->mirror_plane).cast<float>();
+  SynthesisResult r =
+      render_direct(capture::reflected(camera, *impl_->mirror_plane), mo, body_from_head);
   for (cv::Mat* image : {&r.view.image, &r.view.mask, &r.view.depth_mm, &r.weights})
     if (!image->empty()) cv::flip(*image, *image, 1);
   return r;
 }
 
 SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camera,
-                                               const SynthesisOptions& o) {
+                                               const SynthesisOptions& o,
+                                               const Eigen::Matrix4f& body_from_head) {
   Impl& m = *impl_;
   m.context.make_current();
   if (!o.per_pixel_visibility && m.seen_stale) m.upload_seen();  // after set_rig
@@ -710,9 +709,8 @@ SynthesisResult ViewSynthesizer::render_direct(const capture::CameraModel& camer
       glUniform3f(glGetUniformLocation(p, "twist_pivot"), float(o.body_pivot.x()),
                   float(o.body_pivot.y()), float(o.body_pivot.z()));
       glUniformMatrix4fv(glGetUniformLocation(p, "body_from_head"), 1, GL_FALSE,
-                         m.body_from_head.data());
-      glUniform1f(glGetUniformLocation(p, "body_side"),
-                  m.body_from_head.isIdentity() ? 1.0f : 0.0f);
+                         body_from_head.data());
+      glUniform1f(glGetUniformLocation(p, "body_side"), body_from_head.isIdentity() ? 1.0f : 0.0f);
       glUniform1f(glGetUniformLocation(p, "feather"), float(feather));
       glUniform1f(glGetUniformLocation(p, "view_bias"), float(bias));
       glUniform1f(glGetUniformLocation(p, "hull_bias"), float(o.hull_view_share));

@@ -204,9 +204,11 @@ class ViewSynthesizer {
   cv::Mat source_depth(int source) const;
 
  private:
-  void check_masks(const cv::Mat& front, const cv::Mat& side) const;
-  void store_masks(const cv::Mat& front, const cv::Mat& side);
-  SynthesisResult render_direct(const capture::CameraModel& camera, const SynthesisOptions& o);
+  // body_from_head: where the body's points read the front photo (render(): a mirrored view's
+  // reflection; identity otherwise).
+  SynthesisResult render_direct(
+      const capture::CameraModel& camera, const SynthesisOptions& o,
+      const Eigen::Matrix4f& body_from_head = Eigen::Matrix4f::Identity());
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
