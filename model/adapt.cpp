@@ -204,6 +204,14 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
   r.folds_remaining = remaining;
   if (remaining > 0)
     r.warnings.push_back(std::to_string(remaining) + " triangles stay flipped after relaxation");
+  // Real pairs: a feature the front photo places beyond its slice's side (a brow tail at the
+  // temple of a turned head) stands out as a fin the front camera sees from behind, and the
+  // side photo then paints it (white flashes beside the eye at -15 deg); a slice the silhouette
+  // gives no width (ear and jaw heights) keeps the base's, which can reach past the real cheek,
+  // and a view turned toward it then shows the front photo's background there.
+  if (options.open_fins) r.fins_opened = detail::open_slice_fins(base, r.mesh);
+  if (options.inside_silhouette)
+    r.clamped_to_silhouette = detail::clamp_to_silhouette(data, r.mesh);
   for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
   return r;
 }

@@ -43,6 +43,11 @@ struct AdaptOptions {
   double outlier_factor = 3;         // ... and so are those farther than this times the
   double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
+  // From the centre line to each extreme a slice only moves outward (no fin the front camera
+  // sees from behind), and no vertex lies beyond the front silhouette at its height (the
+  // silhouette holds the whole head, hair and ears included, so it bounds every slice).
+  bool open_fins = true;
+  bool inside_silhouette = true;
   void check() const;  // throws std::invalid_argument (k < 1, negative counts,
                        // outlier limits not 0 < min <= max, factor <= 0, roughness limits
                        // not 0 <= from < full)
@@ -88,6 +93,8 @@ struct AdaptResult {
   LandmarkTargets targets;                           // what the data fixed
   Alignment alignment;
   int folds_fixed = 0, folds_remaining = 0;  // flipped triangles vs the aligned base
+  int fins_opened = 0;                       // vertices moved out (AdaptOptions::open_fins)
+  int clamped_to_silhouette = 0;             // vertices moved in (AdaptOptions::inside_silhouette)
   double roughness_mm = 0;    // the displacement's roughness (AdaptOptions::smooth_iterations)
   double smoothed_share = 0;  // ... and the share of the smoothed field it was given
   std::vector<std::string> warnings;

@@ -64,4 +64,13 @@ std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
                                  const LandmarkTargets& targets, int max_passes,
                                  mesh::TriMesh& mesh);
 
+// Opens the fins a front feature leaves standing out of its slice: from the centre line to each
+// extreme a slice's vertices are made to move outward (x never back toward the centre), so the
+// front half of the face is seen from the front (+z) without a fold. Returns the vertices moved.
+int open_slice_fins(const BaseMesh& base, mesh::TriMesh& mesh);
+
+// Moves every vertex beyond the front silhouette at its height (silhouette_x_at, each side)
+// onto it. Returns the vertices moved.
+int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh);
+
 }  // namespace orthoface::model::detail

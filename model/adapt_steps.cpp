@@ -404,5 +404,34 @@ std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
   return {initial, static_cast<int>(folds.size())};
 }
 
+int open_slice_fins(const BaseMesh& base, mesh::TriMesh& mesh) {
+  int moved = 0;
+  for (const std::vector<int>& slice : base.slices) {
+    const int c = static_cast<int>(slice.size()) / 2;
+    for (int side : {-1, 1}) {
+      double reach = mesh.vertices[slice[c]].x();
+      for (int i = c + side; i >= 0 && i < static_cast<int>(slice.size()); i += side) {
+        double& x = mesh.vertices[slice[i]].x();
+        if (side * (x - reach) < 0) {
+          x = reach;
+          ++moved;
+        }
+        reach = x;
+      }
+    }
+  }
+  return moved;
+}
+
+int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh) {
+  int moved = 0;
+  for (Eigen::Vector3d& v : mesh.vertices) {
+    const auto right = silhouette_x_at(data, v.y(), -1), left = silhouette_x_at(data, v.y(), 1);
+    if (right && v.x() < *right) v.x() = *right, ++moved;
+    if (left && v.x() > *left) v.x() = *left, ++moved;
+  }
+  return moved;
+}
+
 }  // namespace detail
 }  // namespace orthoface::model

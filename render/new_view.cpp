@@ -71,14 +71,15 @@ double view_bias(const Eigen::Vector3d& front, const Eigen::Vector3d& side,
 }
 
 // Facing cosine over which a source's share rises to 1 (a grazing sample is stretched). Under
-// the View blend it narrows near that camera's own viewpoint, where the stretch goes away (there
-// a grazing sample is exactly the photo's pixel); never wider than 0.1, which
-// triangle_facts' "whole" test assumes.
+// the View blend it narrows as the view nears that camera (by cos^ramp_narrowing of the angle
+// between them), where the stretch goes away (at the camera a grazing sample is exactly the
+// photo's pixel); never wider than 0.1, which triangle_facts' "whole" test assumes.
 double facing_ramp(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
                    const SynthesisOptions& o) {
   constexpr double kRamp = 0.1;
   if (o.blend != Blend::View) return kRamp;
-  return std::max(kRamp * (1 - own_viewpoint(source, view)), 1e-4);
+  const double near = std::pow(std::clamp(view.dot(source), 0.0, 1.0), o.ramp_narrowing);
+  return std::max(kRamp * (1 - near), 1e-4);
 }
 
 // The synthesis fragment shader specialised for the rig's source cameras and the options.
@@ -171,6 +172,7 @@ void SynthesisOptions::check() const {
   if (!(visibility_tolerance_mm >= 0 && visibility_tolerance_mm <= 100))
     bad("visibility_tolerance_mm must be in 0..100");
   if (blend_bands < 1 || blend_bands > 12) bad("blend_bands must be in 1..12");
+  if (!(ramp_narrowing >= 1 && ramp_narrowing <= 256)) bad("ramp_narrowing must be in 1..256");
   if (!(hull_max_stretch == 0 || (hull_max_stretch >= 1.5 && hull_max_stretch <= 100)))
     bad("hull_max_stretch must be 0 or in 1.5..100");
   if (body_camera && !capture::camera_problem(*body_camera).empty())

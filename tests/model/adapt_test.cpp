@@ -149,6 +149,52 @@ TEST(Adapt, NoFoldsWithNoisyFeatures) {
   }
 }
 
+// Vertices of a slice that lie nearer the centre line than the one before them, going from the
+// centre to either extreme (a fin the front camera sees from behind), and vertices beyond the
+// front silhouette at their height.
+std::pair<int, int> fins_and_overreach(const BaseMesh& base, const StereoData& d,
+                                       const mesh::TriMesh& m) {
+  int fins = 0, beyond = 0;
+  for (const auto& slice : base.slices) {
+    const int c = static_cast<int>(slice.size()) / 2;
+    for (int side : {-1, 1})
+      for (int i = c + side; i >= 0 && i < static_cast<int>(slice.size()); i += side)
+        fins += side * (m.vertices[slice[i]].x() - m.vertices[slice[i - side]].x()) < -1e-9;
+  }
+  for (const auto& v : m.vertices) {
+    const auto right = silhouette_x_at(d, v.y(), -1), left = silhouette_x_at(d, v.y(), 1);
+    beyond += (right && v.x() < *right - 1e-9) || (left && v.x() > *left + 1e-9);
+  }
+  return {fins, beyond};
+}
+
+// A brow tail the front photo places past the temple (a real turned head) leaves a fin the
+// front camera sees from behind; a narrowed silhouette leaves the base's cheek beyond it. Both
+// are opened / pulled in, and a clean face is left as it was.
+TEST(Adapt, KeepsTheFrontHalfSeenFromTheFrontAndInsideTheSilhouette) {
+  const BaseMesh base = base_mesh();
+  auto s = testing::synthetic_face({1, 1, 1}, {0, 0, 0});
+  const StereoData clean = stereo_match(s.observation, s.rig);
+  const AdaptResult plain = adapt(base, clean);
+  EXPECT_EQ(fins_and_overreach(base, clean, plain.mesh), std::make_pair(0, 0));
+
+  s.observation.front.features["brow_right_outer"].px.x -= 30;
+  for (cv::Point2d& p : s.observation.front.boundary) p.x += p.x < 320 ? 12 : 0;
+  const StereoData d = stereo_match(s.observation, s.rig);
+  AdaptOptions off;
+  off.open_fins = off.inside_silhouette = false;
+  const AdaptResult raw = adapt(base, d, off);
+  const auto [raw_fins, raw_beyond] = fins_and_overreach(base, d, raw.mesh);
+  EXPECT_GT(raw_fins, 0);
+  EXPECT_GT(raw_beyond, 0);
+  const AdaptResult r = adapt(base, d);
+  EXPECT_GT(r.fins_opened, 0);
+  EXPECT_GT(r.clamped_to_silhouette, 0);
+  EXPECT_EQ(fins_and_overreach(base, d, r.mesh), std::make_pair(0, 0));
+  EXPECT_EQ(r.landmarks.at("brow_right_outer").x(),
+            r.mesh.vertices[base.features.at("brow_right_outer")].x());
+}
+
 // Roughness: the median distance of a free vertex from its neighbours' mean (mm).
 double vertex_roughness(const mesh::TriMesh& m, const LandmarkTargets& targets) {
   const auto adjacency = detail::vertex_adjacency(m);
