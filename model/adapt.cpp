@@ -210,8 +210,7 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
   // gives no width (ear and jaw heights) keeps the base's, which can reach past the real cheek,
   // and a view turned toward it then shows the front photo's background there.
   if (options.open_fins) r.fins_opened = detail::open_slice_fins(base, r.mesh);
-  if (options.inside_silhouette)
-    r.clamped_to_silhouette = detail::clamp_to_silhouette(data, r.mesh);
+  if (options.inside_silhouette) r.clamped_to_silhouette = clamp_to_silhouette(data, r.mesh);
   for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
   return r;
 }

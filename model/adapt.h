@@ -109,6 +109,11 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
 mesh::TriMesh procrustes_fit(const BaseMesh& base, const StereoData& data,
                              const AdaptOptions& options = {});
 
+// Moves every vertex beyond the front silhouette at its height (silhouette_x_at, each side)
+// onto it; `data` and `mesh` in one frame, the front camera's (a head modelled facing front is
+// clamped once turned back, against the data as measured). Returns the vertices moved.
+int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh);
+
 // Number of triangles whose normal turned by more than 90° from `reference` (same topology).
 int count_folds(const mesh::TriMesh& mesh, const mesh::TriMesh& reference);
 

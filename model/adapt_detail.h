@@ -69,8 +69,4 @@ std::pair<int, int> remove_folds(const std::vector<std::vector<int>>& adjacency,
 // front half of the face is seen from the front (+z) without a fold. Returns the vertices moved.
 int open_slice_fins(const BaseMesh& base, mesh::TriMesh& mesh);
 
-// Moves every vertex beyond the front silhouette at its height (silhouette_x_at, each side)
-// onto it. Returns the vertices moved.
-int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh);
-
 }  // namespace orthoface::model::detail

@@ -423,6 +423,8 @@ int open_slice_fins(const BaseMesh& base, mesh::TriMesh& mesh) {
   return moved;
 }
 
+}  // namespace detail
+
 int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh) {
   int moved = 0;
   for (Eigen::Vector3d& v : mesh.vertices) {
@@ -433,5 +435,4 @@ int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh) {
   return moved;
 }
 
-}  // namespace detail
 }  // namespace orthoface::model

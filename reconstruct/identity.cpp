@@ -47,7 +47,8 @@ std::optional<double> front_to_view_face_distance(const Reconstruction& r) {
   ViewOptions o;
   o.synthesis.blend_bands = 1;
   o.synthesis.float_round_trip = false;
-  o.twist_neck = false;  // the limit was set on views whose neck turns with the head
+  o.synthesis.ramp_narrowing = 64;  // as the views the limit was set on (docs/input_check.md)
+  o.twist_neck = false;             // the limit was set on views whose neck turns with the head
   ViewRenderer views(r, o);
   double sum = 0;
   int n = 0;

@@ -165,13 +165,15 @@ namespace {
 // smoothing (model::AdaptOptions, rough faces) also smooths away the misfit of two people's
 // photos that the check looks for: over 43 pairings of one person's front with another's side it
 // refused 20 from the unsmoothed model and 14 from the smoothed one (docs/input_check.md). The
-// silhouettes are r's: the head around the face is not re-cut.
+// silhouettes are r's: the head around the face is not re-cut. The fins and the overreach past
+// the silhouette are left as well (model::AdaptOptions::open_fins, inside_silhouette): opened,
+// another person's side was refused in 20 of 52 pairings, left in 22 (identity_bench).
 Reconstruction identity_model(const Reconstruction& r, const vision::FaceObservation& obs,
                               const cv::Mat& front, const cv::Mat& side,
                               const ReconstructOptions& options) {
-  if (r.report.surface_smoothed_share <= 0) return r;
   ReconstructOptions raw = options;
   raw.adapt.smooth_iterations = 0;
+  raw.adapt.open_fins = raw.adapt.inside_silhouette = false;
   vision::FaceObservation without_blobs = obs;  // from_observation cuts silhouettes from them
   without_blobs.front_blob = cv::Mat();
   Reconstruction out = r;
@@ -297,12 +299,22 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   out.report.head_turn_corrected = turn && options.min_head_turn_deg >= 0 &&
                                    std::abs(out.report.head_yaw_deg) >= options.min_head_turn_deg &&
                                    (toward_side < 0 || options.turn_toward_side);
-  if (out.report.head_turn_corrected) data = model::facing_front(data, *turn);
+  const model::StereoData measured = data;
+  model::AdaptOptions adapt_options = options.adapt;
+  if (out.report.head_turn_corrected) {
+    data = model::facing_front(data, *turn);
+    adapt_options.inside_silhouette = false;  // the silhouette bounds the head as it stood
+  }
   static const model::BaseMesh base = model::base_mesh();
-  model::AdaptResult r = model::adapt(base, data, options.adapt);
+  model::AdaptResult r = model::adapt(base, data, adapt_options);
   if (out.report.head_turn_corrected) {
     model::turn_mesh(r.mesh, *turn);
-    model::turn_landmarks(r.landmarks, *turn);
+    if (options.adapt.inside_silhouette) {
+      r.clamped_to_silhouette = model::clamp_to_silhouette(measured, r.mesh);
+      for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
+    } else {
+      model::turn_landmarks(r.landmarks, *turn);
+    }
   }
   out.report.stage_ms.push_back({"adapt", ms_since(t)});
   t = Clock::now();

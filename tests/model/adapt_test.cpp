@@ -195,6 +195,19 @@ TEST(Adapt, KeepsTheFrontHalfSeenFromTheFrontAndInsideTheSilhouette) {
             r.mesh.vertices[base.features.at("brow_right_outer")].x());
 }
 
+TEST(Adapt, ClampToSilhouetteMovesOnlyWhatLiesBeyondIt) {
+  mesh::TriMesh m;
+  m.vertices = {{-80, 0, 0}, {0, 0, 0}, {80, 0, 0}, {90, 500, 0}};
+  StereoData d;
+  EXPECT_EQ(clamp_to_silhouette(d, m), 0);  // no silhouette: nothing to hold the mesh to
+  d.silhouette = {{-60, -100}, {-60, 100}, {60, 100}, {60, -100}};
+  EXPECT_EQ(clamp_to_silhouette(d, m), 2);
+  EXPECT_DOUBLE_EQ(m.vertices[0].x(), -60);
+  EXPECT_DOUBLE_EQ(m.vertices[1].x(), 0);
+  EXPECT_DOUBLE_EQ(m.vertices[2].x(), 60);
+  EXPECT_DOUBLE_EQ(m.vertices[3].x(), 90);  // above the silhouette: no width known there
+}
+
 // Roughness: the median distance of a free vertex from its neighbours' mean (mm).
 double vertex_roughness(const mesh::TriMesh& m, const LandmarkTargets& targets) {
   const auto adjacency = detail::vertex_adjacency(m);
