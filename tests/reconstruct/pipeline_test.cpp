@@ -166,8 +166,9 @@ TEST(Pipeline, TheIdentityCheckViewsTheUnsmoothedFace) {
   ReconstructOptions smoothed;
   smoothed.adapt.rough_from_mm = 0;
   smoothed.adapt.rough_full_mm = 1e-3;
-  ReconstructOptions raw;
+  ReconstructOptions raw;  // the face as adapted: not smoothed, fins and overreach left
   raw.adapt.smooth_iterations = 0;
+  raw.adapt.open_fins = raw.adapt.inside_silhouette = false;
   const Reconstruction s = from_photos(cap.front, cap.side, smoothed);
   ASSERT_EQ(s.report.surface_smoothed_share, 1.0);
   const auto d_smoothed = front_to_view_face_distance(s);
