@@ -51,6 +51,8 @@ void AdaptOptions::check() const {
   if (!(min_outlier_shift_mm > 0 && min_outlier_shift_mm <= max_feature_shift_mm))
     throw std::invalid_argument(
         "AdaptOptions: min_outlier_shift_mm must be in (0, max_feature_shift_mm]");
+  if (!(silhouette_margin_mm >= 0 && silhouette_margin_mm <= 50))
+    throw std::invalid_argument("AdaptOptions: silhouette_margin_mm must be in 0..50");
   if (!(outlier_factor > 0))
     throw std::invalid_argument("AdaptOptions: outlier_factor must be > 0");
   if (blend_rings < 0 || blend_iterations < 0 || max_fold_passes < 0 || smooth_iterations < 0)
@@ -210,7 +212,8 @@ AdaptResult adapt(const BaseMesh& base, const StereoData& data, const AdaptOptio
   // gives no width (ear and jaw heights) keeps the base's, which can reach past the real cheek,
   // and a view turned toward it then shows the front photo's background there.
   if (options.open_fins) r.fins_opened = detail::open_slice_fins(base, r.mesh);
-  if (options.inside_silhouette) r.clamped_to_silhouette = clamp_to_silhouette(data, r.mesh);
+  if (options.inside_silhouette)
+    r.clamped_to_silhouette = clamp_to_silhouette(data, r.mesh, options.silhouette_margin_mm);
   for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
   return r;
 }

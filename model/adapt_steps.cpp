@@ -425,12 +425,13 @@ int open_slice_fins(const BaseMesh& base, mesh::TriMesh& mesh) {
 
 }  // namespace detail
 
-int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh) {
+int clamp_to_silhouette(const StereoData& data, mesh::TriMesh& mesh, double margin_mm) {
+  if (!(margin_mm >= 0)) throw std::invalid_argument("clamp to silhouette: margin_mm must be >= 0");
   int moved = 0;
   for (Eigen::Vector3d& v : mesh.vertices) {
     const auto right = silhouette_x_at(data, v.y(), -1), left = silhouette_x_at(data, v.y(), 1);
-    if (right && v.x() < *right) v.x() = *right, ++moved;
-    if (left && v.x() > *left) v.x() = *left, ++moved;
+    if (right && v.x() < *right - margin_mm) v.x() = *right - margin_mm, ++moved;
+    if (left && v.x() > *left + margin_mm) v.x() = *left + margin_mm, ++moved;
   }
   return moved;
 }

@@ -310,7 +310,8 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   if (out.report.head_turn_corrected) {
     model::turn_mesh(r.mesh, *turn);
     if (options.adapt.inside_silhouette) {
-      r.clamped_to_silhouette = model::clamp_to_silhouette(measured, r.mesh);
+      r.clamped_to_silhouette =
+          model::clamp_to_silhouette(measured, r.mesh, options.adapt.silhouette_margin_mm);
       for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
     } else {
       model::turn_landmarks(r.landmarks, *turn);

@@ -153,7 +153,8 @@ TEST(Adapt, NoFoldsWithNoisyFeatures) {
 // centre to either extreme (a fin the front camera sees from behind), and vertices beyond the
 // front silhouette at their height.
 std::pair<int, int> fins_and_overreach(const BaseMesh& base, const StereoData& d,
-                                       const mesh::TriMesh& m) {
+                                       const mesh::TriMesh& m,
+                                       double margin = AdaptOptions{}.silhouette_margin_mm) {
   int fins = 0, beyond = 0;
   for (const auto& slice : base.slices) {
     const int c = static_cast<int>(slice.size()) / 2;
@@ -163,7 +164,7 @@ std::pair<int, int> fins_and_overreach(const BaseMesh& base, const StereoData& d
   }
   for (const auto& v : m.vertices) {
     const auto right = silhouette_x_at(d, v.y(), -1), left = silhouette_x_at(d, v.y(), 1);
-    beyond += (right && v.x() < *right - 1e-9) || (left && v.x() > *left + 1e-9);
+    beyond += (right && v.x() < *right - margin - 1e-9) || (left && v.x() > *left + margin + 1e-9);
   }
   return {fins, beyond};
 }
@@ -206,6 +207,13 @@ TEST(Adapt, ClampToSilhouetteMovesOnlyWhatLiesBeyondIt) {
   EXPECT_DOUBLE_EQ(m.vertices[1].x(), 0);
   EXPECT_DOUBLE_EQ(m.vertices[2].x(), 60);
   EXPECT_DOUBLE_EQ(m.vertices[3].x(), 90);  // above the silhouette: no width known there
+  m.vertices[0].x() = -70;
+  EXPECT_EQ(clamp_to_silhouette(d, m, 5.0), 1);  // a margin outside the silhouette is left
+  EXPECT_DOUBLE_EQ(m.vertices[0].x(), -65);
+  EXPECT_THROW(clamp_to_silhouette(d, m, -1.0), std::invalid_argument);
+  AdaptOptions bad;
+  bad.silhouette_margin_mm = -1;
+  EXPECT_THROW(bad.check(), std::invalid_argument);
 }
 
 // Roughness: the median distance of a free vertex from its neighbours' mean (mm).
