@@ -44,8 +44,8 @@ struct AdaptOptions {
   double min_outlier_shift_mm = 8;   // features' median distance, but never below this
   std::vector<std::string> ignored_features;  // observed features to treat as non-feature
   // From the centre line to each extreme a slice only moves outward (no fin the front camera
-  // sees from behind), and no vertex lies beyond the front silhouette at its height (the
-  // silhouette holds the whole head, hair and ears included, so it bounds every slice).
+  // sees from behind), and no vertex lies beyond the front silhouette at its height (the front
+  // camera saw the whole head inside it).
   bool open_fins = true;
   bool inside_silhouette = true;
   // ... within this margin (mm). 3 mm gave a sim head's live view back 0.4 dB over the head

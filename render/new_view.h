@@ -68,7 +68,7 @@ struct SynthesisOptions {
   // View: a photo's share rises from 0 to 1 over facing cosines 0..0.1 x (1 - c^ramp_narrowing),
   // c the cosine between the new view and its camera: near the camera its grazing samples
   // are hardly stretched and keep the surface the other photo would paint with a registration
-  // error (real pairs at 15 deg: the side photo's strip along the near cheek; 64 before).
+  // error (real pairs at 15 deg: the side photo's strip along the near cheek).
   double ramp_narrowing = 8;
   bool per_pixel_visibility = true;    // false: occlusion tested per vertex (faster, coarser)
   bool skip_unoccluded = true;         // per pixel: triangles where a photo alone or no occlusion
