@@ -121,8 +121,4 @@ void turn_mesh(mesh::TriMesh& mesh, const HeadTurn& turn) {
   for (Eigen::Vector3d& v : mesh.vertices) v = turned(v, turn);
 }
 
-void turn_landmarks(std::map<std::string, Eigen::Vector3d>& landmarks, const HeadTurn& turn) {
-  for (auto& [name, p] : landmarks) p = turned(p, turn);
-}
-
 }  // namespace orthoface::model

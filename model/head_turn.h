@@ -9,7 +9,6 @@
 // the stereo data is turned back, the base mesh adapted facing front, and the result turned
 // back to where the head stood, so the photos still texture it from where they were taken.
 
-#include <map>
 #include <optional>
 #include <string>
 
@@ -50,9 +49,8 @@ std::optional<HeadTurn> estimate_head_turn(const vision::FaceObservation& observ
 // the midline).
 StereoData facing_front(const StereoData& data, const HeadTurn& turn);
 
-// Turns a head-facing point, mesh or landmark set to where the head stood (turn applied).
+// Turns a head-facing point or mesh to where the head stood (turn applied).
 Eigen::Vector3d turned(const Eigen::Vector3d& p, const HeadTurn& turn);
 void turn_mesh(mesh::TriMesh& mesh, const HeadTurn& turn);
-void turn_landmarks(std::map<std::string, Eigen::Vector3d>& landmarks, const HeadTurn& turn);
 
 }  // namespace orthoface::model

@@ -101,6 +101,8 @@ nlohmann::json report_object(const Reconstruction& r) {
           {"landmarks_used", rep.landmarks_used},
           {"folds_fixed", rep.folds_fixed},
           {"folds_remaining", rep.folds_remaining},
+          {"fins_opened", rep.fins_opened},
+          {"clamped_to_silhouette", rep.clamped_to_silhouette},
           {"surface",
            {{"roughness_mm", rep.surface_roughness_mm},
             {"smoothed_share", rep.surface_smoothed_share}}},

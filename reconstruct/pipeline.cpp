@@ -123,6 +123,8 @@ void fill_report(const vision::FaceObservation& obs, const model::StereoData& da
   rep.landmarks_used = static_cast<int>(r.targets.vertices.size());
   rep.folds_fixed = r.folds_fixed;
   rep.folds_remaining = r.folds_remaining;
+  rep.fins_opened = r.fins_opened;
+  rep.clamped_to_silhouette = r.clamped_to_silhouette;
   rep.surface_roughness_mm = r.roughness_mm;
   rep.surface_smoothed_share = r.smoothed_share;
 }
@@ -309,13 +311,10 @@ Reconstruction from_observation(const vision::FaceObservation& obs, const cv::Ma
   model::AdaptResult r = model::adapt(base, data, adapt_options);
   if (out.report.head_turn_corrected) {
     model::turn_mesh(r.mesh, *turn);
-    if (options.adapt.inside_silhouette) {
+    if (options.adapt.inside_silhouette)
       r.clamped_to_silhouette =
           model::clamp_to_silhouette(measured, r.mesh, options.adapt.silhouette_margin_mm);
-      for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
-    } else {
-      model::turn_landmarks(r.landmarks, *turn);
-    }
+    for (const auto& [name, v] : base.features) r.landmarks[name] = r.mesh.vertices[v];
   }
   out.report.stage_ms.push_back({"adapt", ms_since(t)});
   t = Clock::now();

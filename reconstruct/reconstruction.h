@@ -90,6 +90,9 @@ struct ReconstructionReport {
   double head_yaw_deg = std::numeric_limits<double>::quiet_NaN();
   bool head_turn_corrected = false;
   int landmarks_used = 0, folds_fixed = 0, folds_remaining = 0;
+  // Face vertices moved out to open a fin, and moved in onto the front silhouette
+  // (model::AdaptOptions::open_fins, inside_silhouette).
+  int fins_opened = 0, clamped_to_silhouette = 0;
   // The adapted mesh's displacement roughness and the share of it smoothed away
   // (model::AdaptOptions::smooth_iterations).
   double surface_roughness_mm = 0, surface_smoothed_share = 0;

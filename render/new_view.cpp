@@ -51,9 +51,11 @@ double feather_band(const SynthesisOptions& o) {
 Eigen::Vector3d toward(const capture::CameraModel& c) { return -capture::view_direction(c); }
 
 // How near the new view (toward `view`) is to a source's own viewpoint (toward `source`):
-// cos(angle between them)^64, 1 at the camera, 0.5 at 8.4 deg, 0.11 at 15 deg, < 0.01 past 25 deg.
-double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view) {
-  return std::pow(std::clamp(view.dot(source), 0.0, 1.0), 64);
+// cos(angle between them)^power, 1 at the camera. At 64: 0.5 at 8.4 deg, 0.11 at 15 deg, < 0.01
+// past 25 deg; at 8: 0.76 at 15 deg, 0.32 at 30 deg, 0.06 at 45 deg.
+double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
+                     double power = 64) {
+  return std::pow(std::clamp(view.dot(source), 0.0, 1.0), power);
 }
 
 // What the View blend adds to cos0 - cos1 for the new view (0 for the other blends), the side
@@ -78,8 +80,7 @@ double facing_ramp(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
                    const SynthesisOptions& o) {
   constexpr double kRamp = 0.1;
   if (o.blend != Blend::View) return kRamp;
-  const double near = std::pow(std::clamp(view.dot(source), 0.0, 1.0), o.ramp_narrowing);
-  return std::max(kRamp * (1 - near), 1e-4);
+  return std::max(kRamp * (1 - own_viewpoint(source, view, o.ramp_narrowing)), 1e-4);
 }
 
 // The synthesis fragment shader specialised for the rig's source cameras and the options.

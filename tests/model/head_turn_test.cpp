@@ -58,14 +58,13 @@ TEST(HeadTurn, RecoversAKnownTurnAndTurnsTheDataBack) {
   EXPECT_NEAR(facing.centre_point.x(), kAxis.x(), 1e-6);
   EXPECT_NEAR(facing.silhouette[0].x(), -70, 1e-6);  // the width is kept
   EXPECT_NEAR(facing.profile[0].x(), kAxis.z() + 130 / std::cos(kYaw), 1e-6);
-  // Turning back gives the observed points; a mesh and landmarks turn the same way.
-  std::map<std::string, Eigen::Vector3d> lm = h.truth;
-  turn_landmarks(lm, *t);
+  // Turning back gives the observed points; a mesh turns the same way.
+  const Eigen::Vector3d nose = turned(h.truth.at("nose_tip"), *t);
   mesh::TriMesh m;
   m.vertices = {h.truth.at("nose_tip")};
   turn_mesh(m, *t);
-  EXPECT_LT((lm.at("nose_tip") - h.data.features.at("nose_tip").head_mm).norm(), 1e-6);
-  EXPECT_LT((m.vertices[0] - lm.at("nose_tip")).norm(), 1e-12);
+  EXPECT_LT((nose - h.data.features.at("nose_tip").head_mm).norm(), 1e-6);
+  EXPECT_LT((m.vertices[0] - nose).norm(), 1e-12);
 }
 
 TEST(HeadTurn, AFrontalHeadHasNoTurnAndOneWrongPointIsDropped) {

@@ -276,6 +276,7 @@ TEST(Pipeline, ATurnedBackHeadStaysInsideTheSilhouetteAsItStood) {
   o.turn_toward_side = true;
   const Reconstruction r = from_photos(cap.front, cap.side, o);
   ASSERT_TRUE(r.report.head_turn_corrected);
+  EXPECT_GT(r.report.clamped_to_silhouette, 0);  // report.json says what the clamp did
   const model::StereoData d = model::stereo_match(r.observation, r.rig);
   int beyond = 0, inside_rows = 0;
   for (const Eigen::Vector3d& v : r.mesh.vertices) {
