@@ -121,15 +121,18 @@ ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
   quick.depth = false;
   const cv::Mat head = synth.render(r.photo_rig.front, quick).view.mask;
   ViewScene scene;
-  // The neck: from a third of the way between the chin and the view's lowest row it fades into
-  // the photo's own, which stays below.
+  // The neck: over its lowest fifth (0.8 to 0.97 of the way from the chin down to the view's
+  // lowest row), where the view's neck has turned nearly back to the body (view_model's turn
+  // weights, 0.35 down to 0), it fades into the photo's own, which stays below. Faded from a
+  // third of the way down, a neck still turned with the head blended with the photo's unturned
+  // one into a doubled collar (docs/views_accuracy.md).
   int bottom = head.rows - 1;
   while (bottom >= 0 && cv::countNonZero(head.row(bottom)) == 0) --bottom;
   const double chin = chin_row(r);
   cv::Mat region = head.clone();
   if (std::isfinite(chin) && bottom > chin + 4) {
-    scene.fade_from_row = chin + 0.3 * (bottom - chin);
-    scene.fade_to_row = chin + 0.8 * (bottom - chin);
+    scene.fade_from_row = chin + 0.8 * (bottom - chin);
+    scene.fade_to_row = chin + 0.97 * (bottom - chin);
     // Hair the mesh does not reach goes too (else it shows beside the turned head) down to the
     // chin; below, the view's own neck, and the photo's neck and body below the fade stay.
     // Only near the head: shoulders that rise above the chin stay.

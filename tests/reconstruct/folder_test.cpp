@@ -123,6 +123,27 @@ TEST_F(Folder, TheWholeHeadCoversTheTrueHeadsSilhouette) {
   EXPECT_GT(w, f + 0.1);
 }
 
+// The turned view fades into the photo's own neck only where its neck has turned nearly back
+// to the body: a neck still turned with the head, blended with the photo's, doubles the collar.
+TEST_F(Folder, TheNeckFadesIntoThePhotoWhereItHasTurnedBack) {
+  const ViewModel model = view_model(*rec_, HeadExtent::Whole);
+  ASSERT_EQ(model.turn_weights.size(), model.mesh.vertices.size());
+  const auto synth = view_synthesizer(*rec_, model);
+  const ViewScene scene = view_scene(*rec_, *synth);
+  ASSERT_TRUE(std::isfinite(scene.fade_from_row));
+  int below = 0;
+  float most = 0;
+  for (size_t i = 0; i < model.mesh.vertices.size(); ++i) {
+    if (capture::project(rec_->photo_rig.front, model.mesh.vertices[i]).y() < scene.fade_from_row)
+      continue;
+    ++below;
+    most = std::max(most, model.turn_weights[i]);
+  }
+  EXPECT_GT(below, 0);
+  // (1 when the fade began a third of the way down from the chin)
+  EXPECT_LE(most, 0.6f) << "the view fades out where its neck still turns with the head";
+}
+
 // The scene of a composited view: the head gone from the front photo, and at yaw 0 the
 // composite gives the front photo back.
 TEST_F(Folder, TheSceneLosesTheHeadAndYawZeroGivesThePhotoBack) {
