@@ -273,7 +273,8 @@ bool Station::one_camera_frame() {
     one_stats_.front_connected = true;
     ++one_stats_.reconnects;
     sequence_known_ = false;  // a new device instance counts its frames afresh
-    events_.push_back("camera " + s_.camera + " is back");
+    events_.push_back("camera " + s_.camera + " is back after " +
+                      std::to_string(one_stats_.frames_front) + " frames");
   }
   capture::FrameResult r;
   try {

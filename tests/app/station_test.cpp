@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -446,9 +447,12 @@ TEST(StationCommand, OneCameraComesBackAfterItIsUnplugged) {
   EXPECT_EQ(summary.at("reconnects").get<int>(), 1) << summary.dump(2);
   const auto events = summary.at("events").dump();
   EXPECT_NE(events.find("camera lost"), std::string::npos) << events;
-  EXPECT_NE(events.find("is back"), std::string::npos) << events;
-  // Frames came before and after the gap: more than the 3 s before it could give at 30 fps.
-  EXPECT_GT(summary.at("frames_front").get<int>(), 100) << summary.dump(2);
+  const size_t back = events.find("is back after ");
+  ASSERT_NE(back, std::string::npos) << events;
+  // Frames came before the gap and after it (counted however fast a loaded machine draws them).
+  const int before_gap = std::atoi(events.c_str() + back + std::strlen("is back after "));
+  EXPECT_GT(before_gap, 0) << events;
+  EXPECT_GT(summary.at("frames_front").get<int>(), before_gap) << summary.dump(2);
   EXPECT_GT(summary.at("frames_out").get<int>(), 0);
 }
 
