@@ -16,7 +16,8 @@
 //   - vision's front landmarks against the judge's on the front photo (eye and mouth corners,
 //     brows: median and worst point / outer-eye distance, points not found).
 // usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] [--view-gain
-// G] [--landmarker filters|network|consensus] [--no-float] [--unseen view|texture|front]
+// G] [--camera-gain G] [--camera-power P] [--landmarker filters|network|consensus] [--no-float]
+// [--unseen view|texture|front]
 // [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] [--no-flanks] [--flanks-max MM]
 // [--flanks-below-max MM] [--flanks-blend MM] [--no-flank-bands] [--head face|whole
 // (default)] [--background photo (default: the views composited into the front photo's scene, the
@@ -158,6 +159,8 @@ struct Options {
   std::vector<std::string> people;  // empty: all
   render::Blend blend = render::SynthesisOptions{}.blend;
   double view_gain = render::SynthesisOptions{}.view_gain;
+  double camera_gain = render::SynthesisOptions{}.camera_gain;
+  double camera_power = render::SynthesisOptions{}.camera_power;
   vision::FrontLandmarker landmarker = vision::ObserveOptions{}.landmarker;
   bool float_textures = render::SynthesisOptions{}.float_textures;
   bool equalize = render::SynthesisOptions{}.equalize;
@@ -283,6 +286,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       so.equalize = opt.equalize;
       so.blend = opt.blend;
       so.view_gain = opt.view_gain;
+      so.camera_gain = opt.camera_gain;
+      so.camera_power = opt.camera_power;
       so.unseen = opt.unseen;
       // The photographed side: the yaw sign that turns the view toward the side camera.
       const double near_sign = capture::photographed_side_sign(rig);
@@ -330,7 +335,7 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       error0.setTo(cv::Scalar(60, 0, 0), v0.view.mask == 0);
       // The scene the views are composited into: the front photo, the head removed (inpainted).
       const reconstruct::ViewScene scene =
-          opt.composite ? reconstruct::view_scene(rec, *synth) : reconstruct::ViewScene{};
+          opt.composite ? reconstruct::view_scene(rec, *synth, true) : reconstruct::ViewScene{};
       psnr_front_min = std::min(psnr_front_min, psnr_front);
       psnr_side_min = std::min(psnr_side_min, psnr_side);
       r["psnr_yaw0_vs_front"] = psnr_front;
@@ -619,6 +624,10 @@ int main(int argc, char** argv) {
         opt.landmarker = vision::parse_front_landmarker(argv[++i]);
       } else if (a == "--view-gain" && i + 1 < argc) {
         opt.view_gain = std::stod(argv[++i]);
+      } else if (a == "--camera-gain" && i + 1 < argc) {
+        opt.camera_gain = std::stod(argv[++i]);
+      } else if (a == "--camera-power" && i + 1 < argc) {
+        opt.camera_power = std::stod(argv[++i]);
       } else if (a == "--no-float") {
         opt.float_textures = false;
       } else if (a == "--no-equalize") {
@@ -659,7 +668,8 @@ int main(int argc, char** argv) {
     if (pos.size() != 2) {
       std::cerr
           << "usage: real_views_bench DIR OUTDIR [--people 031,032] [--blend view|pick|weighted] "
-             "[--view-gain G] [--landmarker filters|network|consensus] [--no-float] [--unseen "
+             "[--view-gain G] [--camera-gain G] [--camera-power P] [--landmarker "
+             "filters|network|consensus] [--no-float] [--unseen "
              "view|texture|front] [--no-equalize] [--head-turn MIN_DEG] [--turn-toward-side] "
              "[--no-flanks] [--flanks-max MM] [--flanks-below-max MM] [--flanks-blend MM] "
              "[--no-flank-bands] [--head face|whole] "

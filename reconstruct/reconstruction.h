@@ -236,9 +236,12 @@ struct ViewScene {
   // The scene scaled into a width x height frame as render::fitted does.
   ViewScene fitted(int width, int height) const;
 };
-// The scene of the front photo's own camera for `synth` (loaded with this reconstruction).
-// Throws std::invalid_argument when the reconstruction has no front photo.
-ViewScene view_scene(const Reconstruction& reconstruction, render::ViewSynthesizer& synth);
+// The scene of the front photo's own camera for `synth` (loaded with this reconstruction);
+// `neck_twists`: the views drawn into it turn the neck back into the body
+// (render::SynthesisOptions::body_camera), so they fade into the photo lower down. Throws
+// std::invalid_argument when the reconstruction has no front photo.
+ViewScene view_scene(const Reconstruction& reconstruction, render::ViewSynthesizer& synth,
+                     bool neck_twists = false);
 
 // The named landmarks of a landmarks.json that write_reconstruction wrote (head frame, mm).
 // Throws std::runtime_error naming the file when it cannot be read or is malformed.

@@ -114,25 +114,27 @@ ViewScene ViewScene::fitted(int width, int height) const {
   return s;
 }
 
-ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth) {
+ViewScene view_scene(const Reconstruction& r, render::ViewSynthesizer& synth, bool neck_twists) {
   if (r.front.empty()) throw std::invalid_argument("view_scene: the reconstruction has no photos");
   render::SynthesisOptions quick;
   quick.float_textures = false;
   quick.depth = false;
   const cv::Mat head = synth.render(r.photo_rig.front, quick).view.mask;
   ViewScene scene;
-  // The neck: over its lowest fifth (0.8 to 0.97 of the way from the chin down to the view's
-  // lowest row), where the view's neck has turned nearly back to the body (view_model's turn
-  // weights, 0.35 down to 0), it fades into the photo's own, which stays below. Faded from a
-  // third of the way down, a neck still turned with the head blended with the photo's unturned
-  // one into a doubled collar (docs/views_accuracy.md).
+  // The neck: a view whose neck twists back into the body (neck_twists: view_model's turn
+  // weights, 1 down to halfway between the chin and the lowest row, 0 there) fades into the
+  // photo's own over the neck's lowest fifth (0.8 to 0.97 of the way down from the chin, turn
+  // weight 0.35 down to 0); faded from a third of the way down, a neck still turned with the
+  // head was blended with the photo's unturned one into a doubled collar
+  // (docs/views_accuracy.md). A neck that turns whole with the head fades from a third to 0.8
+  // of the way. The photo's own neck and body stay below.
   int bottom = head.rows - 1;
   while (bottom >= 0 && cv::countNonZero(head.row(bottom)) == 0) --bottom;
   const double chin = chin_row(r);
   cv::Mat region = head.clone();
   if (std::isfinite(chin) && bottom > chin + 4) {
-    scene.fade_from_row = chin + 0.8 * (bottom - chin);
-    scene.fade_to_row = chin + 0.97 * (bottom - chin);
+    scene.fade_from_row = chin + (neck_twists ? 0.8 : 0.3) * (bottom - chin);
+    scene.fade_to_row = chin + (neck_twists ? 0.97 : 0.8) * (bottom - chin);
     // Hair the mesh does not reach goes too (else it shows beside the turned head) down to the
     // chin; below, the view's own neck, and the photo's neck and body below the fade stay.
     // Only near the head: shoulders that rise above the chin stay.

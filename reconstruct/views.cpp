@@ -106,7 +106,7 @@ ViewRenderer::ViewRenderer(const Reconstruction& r, const ViewOptions& options)
     options_.synthesis.unseen = render::UnseenSide::Front;
   }
   if (options_.background.kind == ViewBackground::Kind::Photo) {
-    scene_ = view_scene(r, *synth_).fitted(width_, height_);
+    scene_ = view_scene(r, *synth_, options_.twist_neck).fitted(width_, height_);
     // Drawn into the photo, the body stays as the photo shows it: the neck twists into it.
     if (options_.twist_neck) {
       options_.synthesis.body_camera = base_;

@@ -51,10 +51,9 @@ double feather_band(const SynthesisOptions& o) {
 Eigen::Vector3d toward(const capture::CameraModel& c) { return -capture::view_direction(c); }
 
 // How near the new view (toward `view`) is to a source's own viewpoint (toward `source`):
-// cos(angle between them)^power, 1 at the camera. At 64: 0.5 at 8.4 deg, 0.11 at 15 deg, < 0.01
-// past 25 deg; at 8: 0.76 at 15 deg, 0.32 at 30 deg, 0.06 at 45 deg.
-double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
-                     double power = 64) {
+// cos(angle between them)^power, 1 at the camera. At 32: 0.33 at 15 deg, 0.01 at 30 deg; at 8:
+// 0.76 at 15 deg, 0.32 at 30 deg, 0.06 at 45 deg.
+double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view, double power) {
   return std::pow(std::clamp(view.dot(source), 0.0, 1.0), power);
 }
 
@@ -63,13 +62,15 @@ double own_viewpoint(const Eigen::Vector3d& source, const Eigen::Vector3d& view,
 // the reference: while the view is nearer the front camera than the side camera it is preferred
 // by view_gain x the difference of the two cosines (the angle penalty of Buehler et al. 2001).
 // Past 45 deg the seed's rule decides (the better-facing photo: a side photo sampled at a grazing
-// angle is smeared), except near the side camera's own viewpoint, where the side photo is given
+// angle is smeared). Near each camera's own viewpoint camera_gain gives that camera's photo
 // back.
 double view_bias(const Eigen::Vector3d& front, const Eigen::Vector3d& side,
                  const Eigen::Vector3d& view, const SynthesisOptions& o) {
   if (o.blend != Blend::View) return 0;
   const double toward_front = view.dot(front) - view.dot(side);
-  return o.view_gain * (std::max(toward_front, 0.0) - own_viewpoint(side, view));
+  return o.view_gain * std::max(toward_front, 0.0) +
+         o.camera_gain * (own_viewpoint(front, view, o.camera_power) -
+                          own_viewpoint(side, view, o.camera_power));
 }
 
 // Facing cosine over which a source's share rises to 1 (a grazing sample is stretched). Under
@@ -167,6 +168,8 @@ void SynthesisOptions::check() const {
   if (!(feather_deg >= 0 && feather_deg <= 45)) bad("feather_deg must be in 0..45");
   if (!(weighted_power > 0 && weighted_power <= 16)) bad("weighted_power must be in (0, 16]");
   if (!(view_gain >= 0 && view_gain <= 10)) bad("view_gain must be in 0..10");
+  if (!(camera_gain >= 0 && camera_gain <= 10)) bad("camera_gain must be in 0..10");
+  if (!(camera_power >= 1 && camera_power <= 4096)) bad("camera_power must be in 1..4096");
   if (!(hull_view_share >= 0 && hull_view_share <= 1)) bad("hull_view_share must be in 0..1");
   if (!(mirror_view_from_deg >= 0 && mirror_view_from_deg <= 180))
     bad("mirror_view_from_deg must be in 0..180");

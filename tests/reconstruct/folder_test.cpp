@@ -123,14 +123,17 @@ TEST_F(Folder, TheWholeHeadCoversTheTrueHeadsSilhouette) {
   EXPECT_GT(w, f + 0.1);
 }
 
-// The turned view fades into the photo's own neck only where its neck has turned nearly back
-// to the body: a neck still turned with the head, blended with the photo's, doubles the collar.
+// A view whose neck twists into the body fades into the photo's own neck only where its neck
+// has turned nearly back: a neck still turned with the head, blended with the photo's, doubles
+// the collar.
 TEST_F(Folder, TheNeckFadesIntoThePhotoWhereItHasTurnedBack) {
   const ViewModel model = view_model(*rec_, HeadExtent::Whole);
   ASSERT_EQ(model.turn_weights.size(), model.mesh.vertices.size());
   const auto synth = view_synthesizer(*rec_, model);
-  const ViewScene scene = view_scene(*rec_, *synth);
+  const ViewScene scene = view_scene(*rec_, *synth, true);
   ASSERT_TRUE(std::isfinite(scene.fade_from_row));
+  // A neck that turns whole with the head (no twist) fades out higher up, as before.
+  EXPECT_LT(view_scene(*rec_, *synth).fade_from_row, scene.fade_from_row - 5);
   int below = 0;
   float most = 0;
   for (size_t i = 0; i < model.mesh.vertices.size(); ++i) {

@@ -92,6 +92,34 @@ TEST(NewView, NearTheFrontCameraItsGrazingSamplesStay) {
   }
 }
 
+// Between the cameras the View blend hands the surface the side photo faces over to it sooner
+// than view_gain 2 did (at 30 degrees), while near the front camera its own viewpoint's gain keeps
+// the front photo's share as it was (at 15 degrees).
+TEST(NewView, ViewBlendHandsOverAt30DegreesAndKeepsTheFrontPhotoAt15) {
+  const Scene s = ellipsoid_scene();
+  ViewSynthesizer synth(s.bare, s.rig, s.front, s.side);
+  auto side_share = [&](double yaw, double view_gain, double camera_gain) {
+    SynthesisOptions o;
+    o.source_weights = true;
+    o.view_gain = view_gain;
+    o.camera_gain = camera_gain;
+    const CameraModel turned = capture::turned_camera(s.rig.front, yaw, 0, Eigen::Vector3d::Zero());
+    cv::Mat side;
+    cv::extractChannel(synth.render(turned, o).weights, side, 1);
+    return cv::sum(side)[0] / 255.0;
+  };
+  const double at30 = side_share(30, 1, 2), at30_before = side_share(30, 2, 0);
+  const double at15 = side_share(15, 1, 2), at15_before = side_share(15, 2, 0),
+               at15_no_camera = side_share(15, 1, 0);
+  std::printf(
+      "side photo's share: 30 deg %.0f px (view_gain 2: %.0f); 15 deg %.0f px (view_gain "
+      "2: %.0f, no camera gain: %.0f)\n",
+      at30, at30_before, at15, at15_before, at15_no_camera);
+  EXPECT_GT(at30, 1.2 * at30_before);
+  EXPECT_LT(std::abs(at15 - at15_before), 0.1 * at15_before);
+  EXPECT_GT(at15_no_camera, 1.2 * at15);
+}
+
 // The neck twists, the body stays: vertices of turn weight 0 are drawn where the body camera
 // sees them whatever the view's turn, in the front photo's colours; weight 1 turns with the view.
 TEST(NewView, VerticesThatDoNotTurnStayAsTheBodyCameraSeesThem) {
@@ -170,6 +198,16 @@ TEST(NewView, BlendNamesRoundTripAndBadOnesAreRefused) {
   EXPECT_THROW(o.check(), std::invalid_argument);
   o.view_gain = NAN;
   EXPECT_THROW(o.check(), std::invalid_argument);
+  o = SynthesisOptions{};
+  for (double gain : {-1.0, 11.0, double(NAN)}) {
+    o.camera_gain = gain;
+    EXPECT_THROW(o.check(), std::invalid_argument) << gain;
+  }
+  o = SynthesisOptions{};
+  for (double power : {0.5, 5000.0, double(NAN)}) {
+    o.camera_power = power;
+    EXPECT_THROW(o.check(), std::invalid_argument) << power;
+  }
   o = SynthesisOptions{};
   for (double share : {-0.1, 1.5, double(NAN)}) {
     o.hull_view_share = share;
