@@ -8,6 +8,7 @@
 #include <set>
 #include <stdexcept>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -27,6 +28,32 @@
 
 namespace orthoface::reconstruct {
 namespace {
+
+// The head's measured turn from a report.json that write_reconstruction wrote (mirror_plane
+// turns the face's plane by it): head_yaw_deg (a number, or null when not measured) and
+// head_turn_corrected. A report without them (an older folder) leaves the turn unmeasured.
+// Throws std::runtime_error naming the file when it is not valid JSON or the fields have other
+// types.
+void read_head_turn(const std::string& path, Reconstruction& r) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot read " + path);
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(f);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
+  }
+  if (!j.is_object()) throw std::runtime_error(path + ": the top level must be an object");
+  const auto yaw = j.find("head_yaw_deg");
+  const auto corrected = j.find("head_turn_corrected");
+  if (yaw == j.end() || corrected == j.end()) return;
+  if (!(yaw->is_number() || yaw->is_null()) || !corrected->is_boolean())
+    throw std::runtime_error(path +
+                             ": head_yaw_deg must be a number or null and head_turn_corrected "
+                             "true or false");
+  if (yaw->is_number()) r.report.head_yaw_deg = yaw->get<double>();
+  r.report.head_turn_corrected = corrected->get<bool>();
+}
 
 namespace fs = std::filesystem;
 
@@ -210,6 +237,7 @@ Reconstruction read_reconstruction(const std::string& dir, const ReadOptions& op
   }
   if (options.landmarks && fs::exists(in / "landmarks.json"))
     r.landmarks = read_landmarks((in / "landmarks.json").string());
+  if (fs::is_regular_file(in / "report.json")) read_head_turn((in / "report.json").string(), r);
   return r;
 }
 
@@ -247,6 +275,21 @@ ViewModel view_model(const Reconstruction& r, HeadExtent extent,
   return v;
 }
 
+std::optional<Eigen::Vector4d> mirror_plane(const Reconstruction& r) {
+  const auto plane = model::mid_sagittal_plane(r.landmarks);
+  if (!plane || r.report.head_turn_corrected || !std::isfinite(r.report.head_yaw_deg)) return plane;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& [name, p] : r.landmarks) centre += p;
+  centre /= double(r.landmarks.size());
+  const Eigen::Vector3d n = plane->head<3>();
+  centre -= (n.dot(centre) - plane->w()) * n;  // onto the plane
+  // The face turned by head_yaw_deg about the vertical (model::estimate_head_turn): its plane's
+  // normal, seen from above, points head_yaw_deg from the x axis (toward -z for a positive turn).
+  const double now = std::atan2(n.z(), n.x()), wanted = -r.report.head_yaw_deg * M_PI / 180;
+  const Eigen::Vector3d turned = Eigen::AngleAxisd(now - wanted, Eigen::Vector3d::UnitY()) * n;
+  return Eigen::Vector4d(turned.x(), turned.y(), turned.z(), turned.dot(centre));
+}
+
 std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& r,
                                                           HeadExtent extent) {
   return view_synthesizer(r, view_model(r, extent));
@@ -261,7 +304,7 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
     synth->set_face_vertices(model.face_vertices);
   if (!model.turn_weights.empty()) synth->set_turn_weights(model.turn_weights);
   synth->set_photo_masks({}, r.side_mask);
-  synth->set_mirror_plane(model::mid_sagittal_plane(r.landmarks));  // nullopt without pairs
+  synth->set_mirror_plane(mirror_plane(r));  // nullopt without pairs
   return synth;
 }
 

@@ -78,7 +78,7 @@ void LiveView::load(const Reconstruction& fit) {
     synth_->set_rig(fit.photo_rig);
     synth_->set_mesh(model.mesh);
     synth_->set_photos(fit.front, fit.side, cv::Mat(), cv::Mat(), render::ColourUpdate::Recompute);
-    synth_->set_mirror_plane(model::mid_sagittal_plane(fit.landmarks));
+    synth_->set_mirror_plane(mirror_plane(fit));
   }
   synth_->set_face_vertices(model.face_vertices);
   scene_ = view_scene(fit, *synth_);

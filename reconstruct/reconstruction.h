@@ -206,10 +206,18 @@ struct ViewModel {
 ViewModel view_model(const Reconstruction& reconstruction, HeadExtent extent,
                      const model::HullOptions& hull = {});
 
+// The face's mid-sagittal plane for the side never photographed (model::mid_sagittal_plane of
+// the landmarks; nullopt without left / right pairs). A head modelled facing the front camera
+// though it was turned (report.head_yaw_deg measured, head_turn_corrected false: a turn toward
+// the side camera) has landmarks that hold little of the turn, so their plane is turned by it
+// about the vertical through the landmarks' centre: mirrored through the unturned plane, a view
+// toward the unseen side showed the face nearly frontal where the real head is seen at the
+// view's angle plus its turn.
+std::optional<Eigen::Vector4d> mirror_plane(const Reconstruction& reconstruction);
+
 // A view synthesizer loaded with the reconstruction: the model's mesh (its face vertices marked),
-// both photos where they were taken, the side mask, and the mid-sagittal plane of its landmarks
-// (when they hold left / right pairs) for the side never photographed. Throws
-// std::invalid_argument when the photos are missing.
+// both photos where they were taken, the side mask, and mirror_plane for the side never
+// photographed. Throws std::invalid_argument when the photos are missing.
 std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& reconstruction,
                                                           const ViewModel& model);
 // The same for view_model(reconstruction, extent).

@@ -71,6 +71,38 @@ TEST_F(Folder, ReadsBackWhatWasWritten) {
   EXPECT_EQ(cv::countNonZero(back.front_silhouette != rec_->front_silhouette), 0);
   EXPECT_EQ(cv::countNonZero(back.side_silhouette != rec_->side_silhouette), 0);
   EXPECT_TRUE(back.front_plate.empty());  // reconstructed without a clean plate
+  // The head's measured turn (mirror_plane turns the face's plane by it).
+  ASSERT_TRUE(std::isfinite(rec_->report.head_yaw_deg));
+  EXPECT_NEAR(back.report.head_yaw_deg, rec_->report.head_yaw_deg, 1e-9);
+  EXPECT_EQ(back.report.head_turn_corrected, rec_->report.head_turn_corrected);
+}
+
+// A head modelled facing front though it was turned: its landmarks' plane (here of a frontal
+// face) turns by the measured turn; a head turned back, or whose turn was not measured, keeps it.
+TEST(MirrorPlane, TurnsWithAHeadModelledFacingFront) {
+  Reconstruction r;
+  r.landmarks = {{"eye_left_outer", {45, 0, 60}}, {"eye_right_outer", {-45, 0, 60}},
+                 {"mouth_left", {25, -60, 70}},   {"mouth_right", {-25, -60, 70}},
+                 {"nose_tip", {0, -30, 100}},     {"chin", {0, -110, 80}}};
+  const auto yaw_of = [](const std::optional<Eigen::Vector4d>& plane) {
+    return std::atan2(plane->z(), plane->x()) * 180 / M_PI;
+  };
+  ASSERT_TRUE(mirror_plane(r));
+  EXPECT_NEAR(yaw_of(mirror_plane(r)), 0, 1e-9);  // not measured
+  r.report.head_yaw_deg = -25;
+  r.report.head_turn_corrected = true;
+  EXPECT_NEAR(yaw_of(mirror_plane(r)), 0, 1e-9);  // turned back: the landmarks hold the turn
+  r.report.head_turn_corrected = false;
+  const auto plane = mirror_plane(r);
+  EXPECT_NEAR(yaw_of(plane), 25, 1e-9);
+  EXPECT_NEAR(plane->head<3>().norm(), 1, 1e-12);
+  // Through the landmarks' centre, as the unturned plane is.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const auto& [name, p] : r.landmarks) centre += p;
+  centre /= double(r.landmarks.size());
+  EXPECT_NEAR(plane->head<3>().dot(centre), plane->w(), 1e-9);
+  r.landmarks = {{"nose_tip", {0, -30, 100}}};
+  EXPECT_FALSE(mirror_plane(r));  // no left / right pairs
 }
 
 // The neck twists into the body: the face and everything above the chin turn fully, the neck's
@@ -338,6 +370,11 @@ TEST_F(Folder, BadFoldersNameTheFolderAndTheFile) {
   std::ofstream(bad / "landmarks.json") << "{}";
   expect_error("landmarks.json");
   fs::remove(bad / "landmarks.json");
+  std::ofstream(bad / "report.json") << "{\"head_yaw_deg\": ";
+  expect_error("report.json");
+  std::ofstream(bad / "report.json") << "{\"head_yaw_deg\": \"left\", \"head_turn_corrected\": 1}";
+  expect_error("report.json");
+  fs::remove(bad / "report.json");
   std::ofstream(bad / "rig.yaml") << "%YAML:1.0\nnothing: 1\n";
   expect_error("rig.yaml");
   fs::remove(bad / "rig.yaml");
