@@ -59,7 +59,8 @@ Command render_command() {
             "optical flow first (floating textures) or blending them band by band"},
            {"unseen", true,
             "SOURCE  the side the side camera never saw, mirrored about the face's mid-plane "
-            "(landmarks.json): view (default: a view turned 20 deg or more toward it is drawn "
+            "(landmarks.json, turned by report.json's head_yaw_deg when the head was modelled "
+            "facing front): view (default: a view turned 20 deg or more toward it is drawn "
             "as the mirror image of the opposite view), texture (the side photo mirrored, "
             "blended with the front photo) or front (the front photo alone; also the default's "
             "fallback without landmarks.json)"},
