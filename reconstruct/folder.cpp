@@ -29,20 +29,25 @@
 namespace orthoface::reconstruct {
 namespace {
 
+// The JSON of the file at `path`. Throws std::runtime_error naming it when it cannot be read or
+// is not valid JSON.
+nlohmann::json read_json_file(const std::string& path) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error("cannot read " + path);
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
+  }
+}
+
 // The head's measured turn from a report.json that write_reconstruction wrote (mirror_plane
 // turns the face's plane by it): head_yaw_deg (a number, or null when not measured) and
 // head_turn_corrected. A report without them (an older folder) leaves the turn unmeasured.
 // Throws std::runtime_error naming the file when it is not valid JSON or the fields have other
 // types.
 void read_head_turn(const std::string& path, Reconstruction& r) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error("cannot read " + path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(f);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
-  }
+  const nlohmann::json j = read_json_file(path);
   if (!j.is_object()) throw std::runtime_error(path + ": the top level must be an object");
   const auto yaw = j.find("head_yaw_deg");
   const auto corrected = j.find("head_turn_corrected");
@@ -309,14 +314,7 @@ std::unique_ptr<render::ViewSynthesizer> view_synthesizer(const Reconstruction& 
 }
 
 std::map<std::string, Eigen::Vector3d> read_landmarks(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) throw std::runtime_error("cannot read " + path);
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(f);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw std::runtime_error(path + ": not valid JSON (" + io::json_error_text(e) + ")");
-  }
+  const nlohmann::json j = read_json_file(path);
   auto fail = [&](const std::string& what) { throw std::runtime_error(path + ": " + what); };
   if (!j.is_object()) fail(io::json_type_error("top level", "an object", j));
   if (!j.contains("landmarks")) fail("landmarks: missing");
