@@ -335,7 +335,8 @@ int run(const std::string& dir, const std::string& out_dir, const Options& opt) 
       error0.setTo(cv::Scalar(60, 0, 0), v0.view.mask == 0);
       // The scene the views are composited into: the front photo, the head removed (inpainted).
       const reconstruct::ViewScene scene =
-          opt.composite ? reconstruct::view_scene(rec, *synth, true) : reconstruct::ViewScene{};
+          opt.composite ? reconstruct::view_scene(rec, *synth, /*neck_twists=*/true)
+                        : reconstruct::ViewScene{};
       psnr_front_min = std::min(psnr_front_min, psnr_front);
       psnr_side_min = std::min(psnr_side_min, psnr_side);
       r["psnr_yaw0_vs_front"] = psnr_front;

@@ -50,6 +50,7 @@ std::optional<double> front_to_view_face_distance(const Reconstruction& r) {
   // As the views the limit was set on (docs/input_check.md).
   o.synthesis.ramp_narrowing = 64;
   o.synthesis.view_gain = 2;
+  o.synthesis.camera_gain = 2;
   o.synthesis.camera_power = 64;
   o.twist_neck = false;  // the limit was set on views whose neck turns with the head
   ViewRenderer views(r, o);

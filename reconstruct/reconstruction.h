@@ -209,9 +209,10 @@ ViewModel view_model(const Reconstruction& reconstruction, HeadExtent extent,
 // The face's mid-sagittal plane for the side never photographed (model::mid_sagittal_plane of
 // the landmarks; nullopt without left / right pairs). A head modelled facing the front camera
 // though it was turned (report.head_yaw_deg measured, head_turn_corrected false: a turn toward
-// the side camera) has landmarks that hold little of the turn, so their plane is turned by it
-// about the vertical through the landmarks' centre: mirrored through the unturned plane, a view
-// toward the unseen side showed the face nearly frontal where the real head is seen at the
+// the side camera) has landmarks that hold little of the turn, so their plane is turned about
+// the vertical through the landmarks' centre until, seen from above, it lies at the measured
+// turn (the landmarks' own small angle replaced, not added to): mirrored through their plane, a
+// view toward the unseen side showed the face nearly frontal where the real head is seen at the
 // view's angle plus its turn.
 std::optional<Eigen::Vector4d> mirror_plane(const Reconstruction& reconstruction);
 

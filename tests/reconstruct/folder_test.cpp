@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "capture/camera_model.h"
+#include "model/symmetry.h"
 #include "reconstruct/reconstruction.h"
 #include "render/image_metrics.h"
 #include "render/new_view.h"
@@ -101,6 +102,11 @@ TEST(MirrorPlane, TurnsWithAHeadModelledFacingFront) {
   for (const auto& [name, p] : r.landmarks) centre += p;
   centre /= double(r.landmarks.size());
   EXPECT_NEAR(plane->head<3>().dot(centre), plane->w(), 1e-9);
+  // Landmarks whose own plane lies at a small angle: it is replaced by the turn, not added to.
+  r.landmarks.at("eye_left_outer").z() += 8;
+  r.landmarks.at("mouth_left").z() += 4;
+  ASSERT_GT(std::abs(yaw_of(model::mid_sagittal_plane(r.landmarks))), 2);
+  EXPECT_NEAR(yaw_of(mirror_plane(r)), 25, 1e-9);
   r.landmarks = {{"nose_tip", {0, -30, 100}}};
   EXPECT_FALSE(mirror_plane(r));  // no left / right pairs
 }
